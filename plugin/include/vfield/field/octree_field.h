@@ -1,0 +1,122 @@
+#pragma once
+/// @file octree_field.h
+/// TriangleMesh (object space) -> OctreeField (object space): the repulsive
+/// octree vector field of Egbert & Winkler, "Collision Free Object Movement
+/// Using Vector Fields", section 3.
+///
+/// - Root: a cube centred on the mesh's bounding box, side = largest extent +
+///   2 x margin (the user's dead space). The root is level 1.
+/// - A node is split into 8 equal octants while more than maxPerLeaf triangles
+///   overlap its closed box (exact triangle-box test, boxes grown by 1e-9 of
+///   their size so that a triangle on a boundary reliably touches both sides)
+///   and its level is below maxLevel.
+/// - Direction of every node (interior nodes included, while building): the
+///   normalized average of the unit normals of the triangles overlapping it. A
+///   leaf without triangles, or a node whose average is shorter than 1e-9,
+///   takes its parent's direction; the root's fallback is zero.
+/// - Magnitude: strength x level, times surfaceBoost in leaves holding triangles.
+/// - A point's force is that of the leaf containing it: cells are half-open
+///   [min, max) per axis, closed on the root's max faces; outside the root the
+///   force is zero and the level 0.
+/// After building, only leaves and the structure to find them are kept.
+
+#include <vfield/core/math.h>
+#include <vfield/mesh/triangle_mesh.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace vfield {
+
+struct OctreeFieldOptions {
+    /// Dead space between the mesh's bounding box and the root cube on every
+    /// side, object-space units (>= 0). Unset: 10% of the largest extent.
+    std::optional<double> margin;
+    int maxPerLeaf = 6;         ///< the paper's N: a node with more triangles is split (>= 1)
+    int maxLevel = 8;           ///< deepest level; the root is level 1 (1..20)
+    double strength = 1.0;      ///< magnitude per level, acceleration units (>= 0)
+    double surfaceBoost = 10.0; ///< magnitude factor in leaves that hold triangles (>= 1)
+
+    /// Throws ValueError naming the first option out of range.
+    void validate() const;
+};
+
+/// The force of the field at one point.
+struct FieldSample {
+    Vec3f force{0.0f, 0.0f, 0.0f}; ///< direction x magnitude; zero outside the root
+    int level = 0;                 ///< level of the leaf; 0 outside the root
+    bool isSurface = false;        ///< the leaf holds triangles
+};
+
+/// A leaf of the octree, for drawing and voxelizing.
+struct FieldLeaf {
+    BBoxd bounds;                  ///< object space
+    uint32_t origin[3];            ///< min corner in cells of the finest level present (depth())
+    uint32_t width;                ///< edge length in those cells (a power of two)
+    Vec3f force;
+    int level;
+    bool isSurface;
+};
+
+class OctreeField {
+public:
+    /// Builds the field around the mesh's triangles of non-zero area, in
+    /// parallel (TBB). Throws ValueError for invalid options or a mesh without
+    /// such triangles.
+    static OctreeField build(const TriangleMesh& mesh, const OctreeFieldOptions& options = {});
+
+    /// The force at p (object space). Thread-safe.
+    FieldSample sample(const Vec3d& p) const;
+
+    /// The paper's hit test of another object's triangles against this field:
+    /// each point (a triangle centroid, object space of this field) that lies in
+    /// the root hits one leaf. Direction: the normalized average of the hit
+    /// leaves' unit directions (once per point); magnitude: the largest magnitude
+    /// among them. No hit, or directions that cancel: zero.
+    Vec3d hitTest(const std::vector<Vec3d>& points) const;
+
+    const BBoxd& bounds() const { return mBounds; }       ///< the root cube, object space
+    double rootSide() const { return mSide; }
+    int depth() const { return mDepth; }                  ///< deepest level present
+    double cellSize(int level) const;                      ///< edge length of a node at level
+    double finestCellSize() const { return cellSize(mDepth); }
+    std::size_t leafCount() const { return mLeafCount; }
+    std::size_t nodeCount() const { return mNodes.size(); }
+    std::size_t memoryBytes() const { return sizeof(*this) + mNodes.capacity() * sizeof(Node); }
+    const OctreeFieldOptions& options() const { return mOptions; }
+
+    /// The magnitude of a leaf at level, with or without surface triangles.
+    double magnitude(int level, bool isSurface) const;
+
+    /// Every leaf, depth first, octants in x-fastest order.
+    std::vector<FieldLeaf> leaves() const;
+    /// The leaves under the root's octant `octant` (0..7, x-fastest), or the
+    /// root itself for octant 0 when the root is a leaf: lets callers split work.
+    std::vector<FieldLeaf> leavesOfOctant(int octant) const;
+
+    /// Internal node record (public for the builder; not part of the API).
+    struct Node {
+        uint32_t firstChild = 0; ///< index of the first of 8 children; 0 for a leaf
+        Vec3f direction{0.0f, 0.0f, 0.0f}; ///< unit or zero (leaves only after build)
+        uint8_t level = 0;
+        uint8_t isSurface = 0;
+    };
+
+private:
+    OctreeField() = default;
+    double boundary(int axis, uint32_t index, int level) const;
+    Vec3f forceOf(const Node& node) const;
+    void collectLeaves(uint32_t node, const uint32_t cell[3], std::vector<FieldLeaf>& out) const;
+
+    OctreeFieldOptions mOptions;
+    Vec3d mCenter{0.0};
+    double mSide = 0.0;
+    BBoxd mBounds;
+    int mDepth = 1;
+    std::size_t mLeafCount = 0;
+    std::vector<Node> mNodes; // mNodes[0] is the root; siblings are contiguous
+};
+
+} // namespace vfield

@@ -1,0 +1,281 @@
+#include <vfield/mesh/procedural.h>
+
+#include <vfield/core/error.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <random>
+#include <string>
+
+namespace vfield {
+
+namespace {
+
+/// 2D gradient noise (Perlin's improved noise) with a seeded permutation.
+/// std::mt19937_64's output is fixed by the standard, so the terrain is the
+/// same on every platform; distributions are not, so none is used.
+class GradientNoise2D {
+public:
+    explicit GradientNoise2D(uint64_t seed)
+    {
+        std::mt19937_64 random(seed);
+        for (int i = 0; i < 256; ++i) mPermutation[i] = static_cast<uint8_t>(i);
+        for (int i = 255; i > 0; --i) std::swap(mPermutation[i], mPermutation[random() % uint64_t(i + 1)]);
+    }
+
+    /// Value in about [-1, 1], zero at integer lattice points.
+    double operator()(double x, double y) const
+    {
+        const double fx = std::floor(x), fy = std::floor(y);
+        const int ix = static_cast<int>(fx) & 255, iy = static_cast<int>(fy) & 255;
+        const double dx = x - fx, dy = y - fy;
+        const double u = fade(dx), v = fade(dy);
+        const double n00 = gradient(hash(ix, iy), dx, dy);
+        const double n10 = gradient(hash(ix + 1, iy), dx - 1, dy);
+        const double n01 = gradient(hash(ix, iy + 1), dx, dy - 1);
+        const double n11 = gradient(hash(ix + 1, iy + 1), dx - 1, dy - 1);
+        const double a = n00 + u * (n10 - n00), b = n01 + u * (n11 - n01);
+        return (a + v * (b - a)) * 1.41421356;
+    }
+
+private:
+    static double fade(double t) { return t * t * t * (t * (t * 6 - 15) + 10); }
+    int hash(int x, int y) const { return mPermutation[(mPermutation[x & 255] + y) & 255]; }
+    static double gradient(int h, double x, double y)
+    {
+        static constexpr double kDirections[8][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1},
+                                                     {0.7071067811865476, 0.7071067811865476},
+                                                     {-0.7071067811865476, 0.7071067811865476},
+                                                     {0.7071067811865476, -0.7071067811865476},
+                                                     {-0.7071067811865476, -0.7071067811865476}};
+        return kDirections[h & 7][0] * x + kDirections[h & 7][1] * y;
+    }
+
+    std::array<uint8_t, 256> mPermutation{};
+};
+
+Vec2d catmullRom(const Vec2d& p0, const Vec2d& p1, const Vec2d& p2, const Vec2d& p3, double t)
+{
+    const double t2 = t * t, t3 = t2 * t;
+    return 0.5 * ((2.0 * p1) + (p2 - p0) * t + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t2 +
+                  (3.0 * p1 - p0 - 3.0 * p2 + p3) * t3);
+}
+
+/// The carve's path as a dense polyline (a smooth curve through 3+ points).
+std::vector<Vec2d> samplePath(const std::vector<Vec2d>& path)
+{
+    if (path.size() < 3) return path;
+    constexpr int kSamplesPerSpan = 32;
+    std::vector<Vec2d> dense;
+    for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+        const Vec2d& p0 = path[i == 0 ? 0 : i - 1];
+        const Vec2d& p3 = path[std::min(i + 2, path.size() - 1)];
+        for (int s = 0; s < kSamplesPerSpan; ++s) dense.push_back(catmullRom(p0, path[i], path[i + 1], p3, double(s) / kSamplesPerSpan));
+    }
+    dense.push_back(path.back());
+    return dense;
+}
+
+double distanceToPolyline(const std::vector<Vec2d>& line, const Vec2d& p)
+{
+    double best = std::numeric_limits<double>::max();
+    for (std::size_t i = 0; i + 1 < line.size(); ++i) {
+        const Vec2d a = line[i], ab = line[i + 1] - a;
+        const double lengthSqr = ab.lengthSqr();
+        const double t = lengthSqr > 0 ? std::clamp((p - a).dot(ab) / lengthSqr, 0.0, 1.0) : 0.0;
+        best = std::min(best, (p - (a + ab * t)).length());
+    }
+    return best;
+}
+
+/// 1 on the path, falling smoothly to 0 at halfWidth; sharper walls keep it
+/// near 1 longer (a flat floor) and drop it faster at the rim.
+double carveProfile(double distance, const TerrainCarve& carve)
+{
+    const double s = std::clamp(distance / carve.halfWidth, 0.0, 1.0);
+    const double shaped = std::pow(s, carve.wallSharpness);
+    return 1.0 - shaped * shaped * (3.0 - 2.0 * shaped);
+}
+
+void require(bool ok, const std::string& what)
+{
+    if (!ok) throw ValueError(what);
+}
+
+} // namespace
+
+void validate(const TerrainOptions& o)
+{
+    require(o.sizeX > 0 && o.sizeZ > 0, "terrain size must be positive");
+    require(o.cellsX >= 1 && o.cellsZ >= 1, "terrain cells must be at least 1");
+    require(double(o.cellsX) * o.cellsZ <= 64e6, "terrain cells: at most 64 million (" + std::to_string(o.cellsX) +
+                                                     " x " + std::to_string(o.cellsZ) + " asked)");
+    require(o.amplitude >= 0, "terrain amplitude must not be negative");
+    require(o.featureSize > 0, "terrain featureSize must be positive");
+    require(o.octaves >= 1 && o.octaves <= 16, "terrain octaves must be within 1..16");
+    require(o.roughness >= 0 && o.roughness <= 1, "terrain roughness must be within 0..1");
+    require(o.baseThickness > 0, "terrain baseThickness must be positive");
+    for (std::size_t i = 0; i < o.carves.size(); ++i) {
+        const TerrainCarve& c = o.carves[i];
+        const std::string name = "terrain carve " + std::to_string(i);
+        require(c.path.size() >= 2, name + ": path needs at least two points");
+        require(c.halfWidth > 0, name + ": halfWidth must be positive");
+        require(c.wallSharpness >= 1, name + ": wallSharpness must be at least 1");
+    }
+}
+
+namespace {
+
+/// Evaluates heights with the noise and dense carve paths built once.
+class TerrainHeightField {
+public:
+    explicit TerrainHeightField(const TerrainOptions& options) : mOptions(options), mNoise(options.seed)
+    {
+        for (const TerrainCarve& carve : options.carves) mPaths.push_back(samplePath(carve.path));
+    }
+
+    double operator()(double x, double z) const
+    {
+        // fBm normalised to about [0, 1].
+        double sum = 0, weight = 1, totalWeight = 0, frequency = 1.0 / mOptions.featureSize;
+        for (int octave = 0; octave < mOptions.octaves; ++octave) {
+            // Offset each octave so lattice zeros do not line up.
+            sum += weight * mNoise(x * frequency + 17.31 * octave, z * frequency - 9.73 * octave);
+            totalWeight += weight;
+            weight *= mOptions.roughness;
+            frequency *= 2.0;
+        }
+        double height = mOptions.amplitude * 0.5 * (1.0 + sum / totalWeight);
+        for (std::size_t i = 0; i < mPaths.size(); ++i) {
+            const TerrainCarve& carve = mOptions.carves[i];
+            height -= carve.depth * carveProfile(distanceToPolyline(mPaths[i], Vec2d(x, z)), carve);
+        }
+        return height;
+    }
+
+private:
+    const TerrainOptions& mOptions;
+    GradientNoise2D mNoise;
+    std::vector<std::vector<Vec2d>> mPaths;
+};
+
+} // namespace
+
+double terrainHeight(const TerrainOptions& options, double x, double z)
+{
+    validate(options);
+    return TerrainHeightField(options)(x, z);
+}
+
+TriangleMesh makeTerrain(const TerrainOptions& o)
+{
+    validate(o);
+    const TerrainHeightField height(o);
+    const int nx = o.cellsX + 1, nz = o.cellsZ + 1; // grid points per axis
+    const auto top = [nz](int i, int k) { return uint32_t(i * nz + k); };
+
+    TriangleMesh mesh;
+    mesh.points.resize(std::size_t(nx) * nz);
+    double lowest = std::numeric_limits<double>::max();
+    for (int i = 0; i < nx; ++i) {
+        const double x = -0.5 * o.sizeX + o.sizeX * i / o.cellsX;
+        for (int k = 0; k < nz; ++k) {
+            const double z = -0.5 * o.sizeZ + o.sizeZ * k / o.cellsZ;
+            const double y = height(x, z);
+            lowest = std::min(lowest, y);
+            mesh.points[top(i, k)] = Vec3f(float(x), float(y), float(z));
+        }
+    }
+    // Surface: (+z) x (+x) = +y, so (p00, p01, p11) faces up.
+    for (int i = 0; i < o.cellsX; ++i)
+        for (int k = 0; k < o.cellsZ; ++k) {
+            mesh.triangles.emplace_back(top(i, k), top(i, k + 1), top(i + 1, k + 1));
+            mesh.triangles.emplace_back(top(i, k), top(i + 1, k + 1), top(i + 1, k));
+        }
+
+    // Perimeter of the top grid: along the -z edge towards +x, the +x edge
+    // towards +z, the +z edge towards -x, the -x edge towards -z.
+    std::vector<uint32_t> rim;
+    for (int i = 0; i < o.cellsX; ++i) rim.push_back(top(i, 0));
+    for (int k = 0; k < o.cellsZ; ++k) rim.push_back(top(o.cellsX, k));
+    for (int i = o.cellsX; i > 0; --i) rim.push_back(top(i, o.cellsZ));
+    for (int k = o.cellsZ; k > 0; --k) rim.push_back(top(0, k));
+
+    // Skirts down to the bottom plane, then the bottom as a fan from its centre.
+    const float bottomY = float(lowest - o.baseThickness);
+    const auto firstBottom = uint32_t(mesh.points.size());
+    for (uint32_t r : rim) mesh.points.emplace_back(mesh.points[r][0], bottomY, mesh.points[r][2]);
+    const auto centre = uint32_t(mesh.points.size());
+    mesh.points.emplace_back(0.0f, bottomY, 0.0f);
+    const auto n = uint32_t(rim.size());
+    for (uint32_t r = 0; r < n; ++r) {
+        const uint32_t a = rim[r], b = rim[(r + 1) % n];
+        const uint32_t a0 = firstBottom + r, b0 = firstBottom + (r + 1) % n;
+        // Skirt quad (a, b, b0, a0) faces away from the terrain; the bottom faces -y.
+        mesh.triangles.emplace_back(a, b, b0);
+        mesh.triangles.emplace_back(a, b0, a0);
+        mesh.triangles.emplace_back(centre, a0, b0);
+    }
+    return mesh;
+}
+
+TriangleMesh makeSphere(const SphereOptions& o)
+{
+    if (!(o.radius > 0)) throw ValueError("sphere radius must be positive");
+    if (o.subdivisions < 0 || o.subdivisions > 8) throw ValueError("sphere subdivisions must be within 0..8");
+
+    // Icosahedron, then each subdivision splits a triangle into four, with
+    // shared midpoints so the result stays closed.
+    const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+    std::vector<Vec3d> unit = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                               {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+    for (Vec3d& p : unit) p.normalize();
+    std::vector<Vec3ui> faces = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                                 {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
+                                 {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+    for (int level = 0; level < o.subdivisions; ++level) {
+        std::map<std::pair<uint32_t, uint32_t>, uint32_t> midpointOf;
+        const auto midpoint = [&](uint32_t a, uint32_t b) {
+            const auto key = std::minmax(a, b);
+            const auto [it, inserted] = midpointOf.emplace(key, uint32_t(unit.size()));
+            if (inserted) unit.push_back((unit[a] + unit[b]).unitSafe());
+            return it->second;
+        };
+        std::vector<Vec3ui> finer;
+        finer.reserve(faces.size() * 4);
+        for (const Vec3ui& f : faces) {
+            const uint32_t ab = midpoint(f[0], f[1]), bc = midpoint(f[1], f[2]), ca = midpoint(f[2], f[0]);
+            finer.emplace_back(f[0], ab, ca);
+            finer.emplace_back(f[1], bc, ab);
+            finer.emplace_back(f[2], ca, bc);
+            finer.emplace_back(ab, bc, ca);
+        }
+        faces = std::move(finer);
+    }
+    TriangleMesh mesh;
+    for (const Vec3d& p : unit) mesh.points.emplace_back(o.center + p * o.radius);
+    mesh.triangles = std::move(faces);
+    return mesh;
+}
+
+TriangleMesh makeBox(const BoxOptions& o)
+{
+    for (int axis = 0; axis < 3; ++axis)
+        if (!(o.max[axis] > o.min[axis])) throw ValueError("box max must exceed min on every axis");
+    TriangleMesh mesh;
+    for (int corner = 0; corner < 8; ++corner)
+        mesh.points.emplace_back(corner & 1 ? o.max[0] : o.min[0], corner & 2 ? o.max[1] : o.min[1],
+                                 corner & 4 ? o.max[2] : o.min[2]);
+    // Two triangles per face, counter-clockwise seen from outside.
+    mesh.triangles = {{0, 4, 6}, {0, 6, 2},  // -x
+                      {1, 3, 7}, {1, 7, 5},  // +x
+                      {0, 1, 5}, {0, 5, 4},  // -y
+                      {2, 6, 7}, {2, 7, 3},  // +y
+                      {0, 2, 3}, {0, 3, 1},  // -z
+                      {4, 5, 7}, {4, 7, 6}}; // +z
+    return mesh;
+}
+
+} // namespace vfield

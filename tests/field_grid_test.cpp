@@ -1,0 +1,84 @@
+#include <vfield/field/field_grid.h>
+#include <vfield/mesh/procedural.h>
+
+#include <openvdb/tools/Interpolation.h>
+
+#include <catch2/catch.hpp>
+
+#include <random>
+
+using namespace vfield;
+
+namespace {
+
+TriangleMesh smallTerrain()
+{
+    TerrainOptions options;
+    options.cellsX = options.cellsZ = 48;
+    options.carves.push_back({{{-100, 0}, {100, 10}}, 25.0, 15.0, 1.0});
+    return makeTerrain(options);
+}
+
+} // namespace
+
+TEST_CASE("field grid: nearest-voxel samples equal the octree's answer everywhere in the root", "[field][vdb]")
+{
+    const OctreeField field = OctreeField::build(smallTerrain());
+    const FieldGrids grids = voxelizeField(field);
+    REQUIRE(grids.force->getName() == "force");
+    CHECK(grids.force->voxelSize()[0] == Approx(field.finestCellSize()));
+
+    openvdb::tools::GridSampler<openvdb::Vec3SGrid, openvdb::tools::PointSampler> force(*grids.force);
+    openvdb::tools::GridSampler<openvdb::Int32Grid, openvdb::tools::PointSampler> level(*grids.level);
+    std::mt19937_64 random(7);
+    const BBoxd& root = field.bounds();
+    int mismatches = 0;
+    for (int i = 0; i < 100000; ++i) {
+        Vec3d p;
+        for (int axis = 0; axis < 3; ++axis)
+            p[axis] = root.min()[axis] + root.extents()[axis] * (double(random() >> 11) / double(1ull << 53));
+        const FieldSample expected = field.sample(p);
+        if (force.wsSample(p) != expected.force || level.wsSample(p) != expected.level) ++mismatches;
+    }
+    CHECK(mismatches == 0);
+}
+
+TEST_CASE("field grid: large leaves become tiles so memory follows the octree", "[field][vdb]")
+{
+    const OctreeField field = OctreeField::build(smallTerrain());
+    const FieldGrids grids = voxelizeField(field);
+    const double voxelsAcross = field.rootSide() / field.finestCellSize();
+    CHECK(grids.force->activeVoxelCount() == openvdb::Index64(voxelsAcross * voxelsAcross * voxelsAcross));
+    CHECK(grids.force->tree().activeTileCount() > 0);
+    const double denseBytes = voxelsAcross * voxelsAcross * voxelsAcross * sizeof(openvdb::Vec3s);
+    CHECK(double(grids.force->memUsage()) < 0.25 * denseBytes);
+}
+
+TEST_CASE("field grid: the surface grid marks exactly the leaves holding triangles", "[field][vdb]")
+{
+    const OctreeField field = OctreeField::build(smallTerrain());
+    const FieldGrids grids = voxelizeField(field);
+    uint64_t surfaceVoxels = 0;
+    for (const FieldLeaf& leaf : field.leaves())
+        if (leaf.isSurface) surfaceVoxels += uint64_t(leaf.width) * leaf.width * leaf.width;
+    CHECK(grids.surface->activeVoxelCount() == surfaceVoxels);
+}
+
+TEST_CASE("field grid: the object's transform places the grid in the world", "[field][vdb]")
+{
+    const OctreeField field = OctreeField::build(makeSphere({{0, 0, 0}, 1.0, 2}));
+    VoxelizeOptions options;
+    options.worldFromObject.setToRotation(openvdb::math::Y_AXIS, 0.5);
+    options.worldFromObject.postTranslate(Vec3d(10, -2, 3));
+    const FieldGrids grids = voxelizeField(field, options);
+    openvdb::tools::GridSampler<openvdb::Vec3SGrid, openvdb::tools::PointSampler> force(*grids.force);
+    std::mt19937_64 random(3);
+    int mismatches = 0;
+    for (int i = 0; i < 2000; ++i) {
+        Vec3d p;
+        for (int axis = 0; axis < 3; ++axis) p[axis] = -1.15 + 2.3 * (double(random() >> 11) / double(1ull << 53));
+        // The grid holds the object-space force, placed at the world position.
+        if (force.wsSample(options.worldFromObject.transform(p)) != field.sample(p).force) ++mismatches;
+    }
+    CHECK(mismatches == 0);
+}

@@ -1,0 +1,29 @@
+#pragma once
+// The shape every subcommand file follows: it declares its options on a CLI11
+// subcommand and returns the function that runs it once parsing succeeded.
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <string>
+
+namespace vfield::cli {
+
+/// Options every subcommand shares.
+struct GlobalOptions {
+    bool quiet = false; ///< no progress or log lines on stderr
+};
+
+/// Runs a parsed subcommand; throws vfield::Error (or std::exception) on failure.
+using Runner = std::function<void()>;
+
+Runner registerMakeMesh(CLI::App& app, const GlobalOptions& global);
+Runner registerProbe(CLI::App& app, const GlobalOptions& global);
+Runner registerBakeField(CLI::App& app, const GlobalOptions& global);
+Runner registerFieldSlice(CLI::App& app, const GlobalOptions& global);
+Runner registerInfo(CLI::App& app, const GlobalOptions& global);
+
+/// A log line on stderr, unless --quiet.
+void log(const GlobalOptions& global, const std::string& line);
+
+} // namespace vfield::cli

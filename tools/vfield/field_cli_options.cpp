@@ -1,0 +1,50 @@
+#include "field_cli_options.h"
+
+#include <vfield/mesh/mesh_io.h>
+#include <vfield/mesh/tessellate.h>
+
+#include <chrono>
+#include <cstdio>
+
+namespace vfield::cli {
+
+void addFieldOptions(CLI::App& command, FieldCliOptions& o)
+{
+    o.command = &command;
+    command.add_option("mesh", o.meshPath, "Mesh file (OBJ, PLY, STL, glTF, ...)")->required();
+    command.add_option("--margin", o.margin, "Dead space around the mesh, object units [default: 10% of the largest extent]")
+        ->check(CLI::NonNegativeNumber);
+    command.add_option("--max-per-leaf", o.octree.maxPerLeaf, "Split a node holding more triangles than this (the paper's N)")
+        ->capture_default_str();
+    command.add_option("--max-level", o.octree.maxLevel, "Deepest octree level; the root is level 1")->capture_default_str();
+    command.add_option("--strength", o.octree.strength, "Force magnitude per level")->capture_default_str();
+    command.add_option("--surface-boost", o.octree.surfaceBoost, "Magnitude factor in leaves holding triangles")
+        ->capture_default_str();
+    command.add_option("--tessellate", o.tessellateEdge, "Split mesh edges longer than this first, object units")
+        ->check(CLI::PositiveNumber);
+}
+
+MeshAndField loadMeshAndBuildField(const FieldCliOptions& o, const GlobalOptions& global)
+{
+    OctreeFieldOptions octree = o.octree;
+    if (o.command->count("--margin") > 0) octree.margin = o.margin;
+
+    MeshLoadReport report;
+    TriangleMesh mesh = loadMesh(o.meshPath, &report);
+    if (report.degenerateTrianglesRemoved > 0)
+        log(global, o.meshPath + ": dropped " + std::to_string(report.degenerateTrianglesRemoved) + " zero-area triangles");
+    if (report.nonTriangleFacesIgnored > 0)
+        log(global, o.meshPath + ": ignored " + std::to_string(report.nonTriangleFacesIgnored) + " points and lines");
+    if (o.command->count("--tessellate") > 0) mesh = tessellate(mesh, o.tessellateEdge);
+
+    const auto start = std::chrono::steady_clock::now();
+    OctreeField field = OctreeField::build(mesh, octree);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    char line[256];
+    std::snprintf(line, sizeof line, "field: %zu triangles, depth %d, %zu leaves, root side %.6g, built in %.1f ms",
+                  mesh.triangleCount(), field.depth(), field.leafCount(), field.rootSide(), ms);
+    log(global, line);
+    return {std::move(mesh), std::move(field)};
+}
+
+} // namespace vfield::cli
