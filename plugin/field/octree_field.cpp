@@ -1,6 +1,7 @@
 #include <vfield/field/octree_field.h>
 
 #include <vfield/core/error.h>
+#include <vfield/core/json.h>
 #include <vfield/field/triangle_box_overlap.h>
 
 #include <tbb/parallel_for.h>
@@ -17,12 +18,26 @@ void OctreeFieldOptions::validate() const
 {
     if (margin && !(*margin >= 0 && std::isfinite(*margin))) throw ValueError("field margin must be a finite number >= 0");
     if (maxPerLeaf < 1) throw ValueError("field maxPerLeaf must be at least 1");
-    if (maxLevel < 1 || maxLevel > 20) throw ValueError("field maxLevel must be within 1..20");
+    if (maxLevel < 1 || maxLevel > OctreeField::kMaxLevels)
+        throw ValueError("field maxLevel must be within 1.." + std::to_string(OctreeField::kMaxLevels));
     if (!(strength >= 0 && std::isfinite(strength))) throw ValueError("field strength must be a finite number >= 0");
     if (!(surfaceBoost >= 1 && std::isfinite(surfaceBoost))) throw ValueError("field surfaceBoost must be a finite number >= 1");
 }
 
-double OctreeField::cellSize(int level) const { return std::ldexp(rootSide(), 1 - level); }
+OctreeFieldOptions octreeFieldOptionsFromJson(const JsonValue& json)
+{
+    JsonObject o(json);
+    OctreeFieldOptions options;
+    if (const auto margin = o.find("margin")) options.margin = margin->asNumber(0, 1e12);
+    options.maxPerLeaf = int(o.integer("maxPerLeaf", options.maxPerLeaf, 1, 1 << 20));
+    options.maxLevel = int(o.integer("maxLevel", options.maxLevel, 1, OctreeField::kMaxLevels));
+    options.strength = o.number("strength", options.strength, 0, 1e12);
+    options.surfaceBoost = o.number("surfaceBoost", options.surfaceBoost, 1, 1e12);
+    o.finish();
+    return options;
+}
+
+double OctreeField::cellSize(int level) const { return mCellSize[level]; }
 
 /// The coordinate of the index-th cell boundary at level along axis. Building
 /// and querying both place boundaries through this one function, so a point on
@@ -31,8 +46,7 @@ double OctreeField::cellSize(int level) const { return std::ldexp(rootSide(), 1 
 /// always lies on one of them, touches the octants on both sides.
 double OctreeField::boundary(int axis, uint32_t index, int level) const
 {
-    const double centralIndex = std::ldexp(1.0, level - 2); // 2^(level-1) cells, halved
-    return mCenter[axis] + (double(index) - centralIndex) * cellSize(level);
+    return mCenter[axis] + (double(index) - mCentralIndex[level]) * mCellSize[level];
 }
 
 double OctreeField::magnitude(int level, bool isSurface) const
@@ -219,6 +233,10 @@ OctreeField OctreeField::build(const TriangleMesh& mesh, const OctreeFieldOption
     const double side = largestExtent + 2.0 * margin;
     field.mCenter = box.getCenter();
     field.mSide = side;
+    for (int level = 1; level <= kMaxLevels; ++level) {
+        field.mCellSize[level] = std::ldexp(side, 1 - level);
+        field.mCentralIndex[level] = std::ldexp(1.0, level - 2); // half of the level's 2^(level-1) cells
+    }
     field.mBounds = BBoxd(field.mCenter - Vec3d(0.5 * side), field.mCenter + Vec3d(0.5 * side));
 
     std::vector<uint32_t> all(triangles.size());

@@ -22,6 +22,8 @@ Runner registerProbe(CLI::App& app, const GlobalOptions& global);
 Runner registerBakeField(CLI::App& app, const GlobalOptions& global);
 Runner registerFieldSlice(CLI::App& app, const GlobalOptions& global);
 Runner registerInfo(CLI::App& app, const GlobalOptions& global);
+Runner registerSimulate(CLI::App& app, const GlobalOptions& global);
+Runner registerExportMesh(CLI::App& app, const GlobalOptions& global);
 
 /// A log line on stderr, unless --quiet.
 void log(const GlobalOptions& global, const std::string& line);

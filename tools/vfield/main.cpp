@@ -40,7 +40,8 @@ int main(int argc, char** argv)
     const std::map<std::string, Runner> runners = {
         {"make-mesh", registerMakeMesh(app, global)},   {"probe", registerProbe(app, global)},
         {"bake-field", registerBakeField(app, global)}, {"field-slice", registerFieldSlice(app, global)},
-        {"info", registerInfo(app, global)},
+        {"info", registerInfo(app, global)},             {"simulate", registerSimulate(app, global)},
+        {"export-mesh", registerExportMesh(app, global)},
     };
 
     try {

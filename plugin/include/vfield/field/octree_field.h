@@ -62,6 +62,7 @@ struct FieldLeaf {
 
 class OctreeField {
 public:
+    static constexpr int kMaxLevels = 20; ///< deepest level any field may have
     /// Builds the field around the mesh's triangles of non-zero area, in
     /// parallel (TBB). Throws ValueError for invalid options or a mesh without
     /// such triangles.
@@ -113,10 +114,21 @@ private:
     OctreeFieldOptions mOptions;
     Vec3d mCenter{0.0};
     double mSide = 0.0;
+    double mCellSize[kMaxLevels + 2] = {};     ///< edge of a cell per level (index = level)
+    double mCentralIndex[kMaxLevels + 2] = {}; ///< boundary index of the central plane per level
     BBoxd mBounds;
     int mDepth = 1;
     std::size_t mLeafCount = 0;
     std::vector<Node> mNodes; // mNodes[0] is the root; siblings are contiguous
 };
+
+} // namespace vfield
+
+namespace vfield {
+
+class JsonValue;
+/// The "repulsion" object of a scene file: margin, maxPerLeaf, maxLevel,
+/// strength, surfaceBoost (all optional, defaults as OctreeFieldOptions).
+OctreeFieldOptions octreeFieldOptionsFromJson(const JsonValue& json);
 
 } // namespace vfield

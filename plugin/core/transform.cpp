@@ -1,0 +1,35 @@
+#include <vfield/core/transform.h>
+
+#include <cmath>
+
+namespace vfield {
+
+Quatd Transform::rotationFromDegrees(const Vec3d& degrees)
+{
+    const double toRadians = M_PI / 180.0;
+    const Quatd x(Vec3d(1, 0, 0), degrees[0] * toRadians);
+    const Quatd y(Vec3d(0, 1, 0), degrees[1] * toRadians);
+    const Quatd z(Vec3d(0, 0, 1), degrees[2] * toRadians);
+    return (z * y * x).unit(); // x first
+}
+
+Mat4d Transform::matrix() const
+{
+    // Rows are the images of the object axes (OpenVDB multiplies row vectors).
+    Mat4d m = Mat4d::identity();
+    for (int row = 0; row < 3; ++row) {
+        Vec3d axis(0.0);
+        axis[row] = 1.0;
+        const Vec3d image = rotate(rotation, axis) * scale;
+        for (int col = 0; col < 3; ++col) m(row, col) = image[col];
+    }
+    m.setTranslation(translation);
+    return m;
+}
+
+bool Transform::isIdentity() const
+{
+    return translation == Vec3d(0.0) && scale == 1.0 && rotation.eq(Quatd::identity());
+}
+
+} // namespace vfield

@@ -1,0 +1,42 @@
+#pragma once
+/// @file transform.h
+/// Rigid placement with uniform scale: world = translate + R (scale * object).
+/// Rotations are unit quaternions; scene files give Euler angles in degrees,
+/// applied about x, then y, then z (all about fixed world axes).
+
+#include <vfield/core/math.h>
+
+#include <openvdb/math/Quat.h>
+
+namespace vfield {
+
+using Quatd = openvdb::math::Quat<double>;
+
+/// q v q^-1 for a unit quaternion (Hamilton convention, right-handed): a
+/// positive angle turns counter-clockwise seen from the axis' tip.
+inline Vec3d rotate(const Quatd& q, const Vec3d& v)
+{
+    const Vec3d u(q.x(), q.y(), q.z());
+    const Vec3d t = 2.0 * u.cross(v);
+    return v + q.w() * t + u.cross(t);
+}
+
+struct Transform {
+    Vec3d translation{0.0, 0.0, 0.0};        ///< world units
+    Quatd rotation = Quatd::identity();     ///< unit quaternion
+    double scale = 1.0;                     ///< uniform, > 0
+
+    /// From Euler angles in degrees: about x, then y, then z.
+    static Quatd rotationFromDegrees(const Vec3d& degrees);
+
+    Vec3d worldFromObject(const Vec3d& p) const { return translation + rotate(rotation, p * scale); }
+    Vec3d objectFromWorld(const Vec3d& p) const { return rotate(rotation.conjugate(), p - translation) / scale; }
+    /// Directions rotate but do not scale or move.
+    Vec3d rotateToWorld(const Vec3d& v) const { return rotate(rotation, v); }
+    Vec3d rotateToObject(const Vec3d& v) const { return rotate(rotation.conjugate(), v); }
+    /// The same map as an OpenVDB row-vector matrix (p * M).
+    Mat4d matrix() const;
+    bool isIdentity() const;
+};
+
+} // namespace vfield

@@ -1,0 +1,27 @@
+#pragma once
+/// @file particles.h
+/// Particle state, structure of arrays in spawn order (removed particles are
+/// compacted away, the order of the rest kept). World space.
+
+#include <vfield/core/math.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace vfield {
+
+struct ParticleSet {
+    std::vector<Vec3f> position;  ///< world units
+    std::vector<Vec3f> velocity;  ///< world units / s
+    std::vector<uint32_t> id;     ///< unique for the whole sequence
+    std::vector<float> radius;    ///< world units (pscale)
+    std::vector<uint16_t> cloud;  ///< index of the cloud it came from
+
+    std::size_t size() const { return position.size(); }
+    void reserve(std::size_t n);
+    /// Keeps the particles whose flag is set, in order.
+    void keep(const std::vector<uint8_t>& alive);
+};
+
+} // namespace vfield

@@ -1,0 +1,420 @@
+#include <vfield/sim/simulator.h>
+
+#include <vfield/core/error.h>
+#include <vfield/field/field_grid.h>
+
+#include <openvdb/tools/Composite.h>
+#include <openvdb/tools/GridTransformer.h>
+#include <openvdb/tools/Interpolation.h>
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <random>
+
+namespace vfield {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// Uniform double in [0, 1) from a 64-bit generator (the standard's
+/// distributions differ between libraries; this does not).
+double unitRandom(std::mt19937_64& random) { return double(random() >> 11) * (1.0 / 9007199254740992.0); }
+
+Vec3d samplePointIn(const CloudSpec& cloud, std::mt19937_64& random)
+{
+    for (;;) { // rejection sampling from the box around the shape
+        const Vec3d u(2 * unitRandom(random) - 1, 2 * unitRandom(random) - 1, 2 * unitRandom(random) - 1);
+        if (cloud.shape == CloudSpec::Shape::Box || u.lengthSqr() <= 1.0)
+            return cloud.center + Vec3d(u[0] * cloud.radii[0], u[1] * cloud.radii[1], u[2] * cloud.radii[2]);
+    }
+}
+
+/// The longest dt for which |v| dt + |a| dt^2 <= reach (the substep's travel bound).
+double stepLimit(double speed, double acceleration, double reach)
+{
+    if (acceleration <= 0.0) return speed > 0.0 ? reach / speed : std::numeric_limits<double>::infinity();
+    return 2.0 * reach / (speed + std::sqrt(speed * speed + 4.0 * acceleration * reach));
+}
+
+/// Heading and pitch from the velocity (nose +x, up +y), and with bank a roll
+/// into the turn from the sideways acceleration.
+Quatd orientationFor(const Vec3d& velocity, const Vec3d& acceleration, bool bank, const Quatd& previous)
+{
+    const double horizontal = std::hypot(velocity[0], velocity[2]);
+    if (velocity.length() < 1e-6) return previous;
+    const double heading = std::atan2(-velocity[2], velocity[0]);
+    const double pitch = std::atan2(velocity[1], horizontal);
+    Quatd q = Quatd(Vec3d(0, 1, 0), heading) * Quatd(Vec3d(0, 0, 1), pitch);
+    if (bank && horizontal > 1e-6) {
+        // Sideways acceleration to the left (up x forward) rolls the left wing
+        // down: a negative turn about the nose (+x).
+        const Vec3d forward(velocity[0] / horizontal, 0, velocity[2] / horizontal);
+        const Vec3d left = Vec3d(0, 1, 0).cross(forward);
+        const double sideways = acceleration.dot(left);
+        const double roll = std::clamp(std::atan2(sideways, 9.81), -kPi / 3, kPi / 3);
+        q = q * Quatd(Vec3d(1, 0, 0), -roll);
+    }
+    return q.unit();
+}
+
+Quatd slerp(const Quatd& a, Quatd b, double t)
+{
+    double dot = a.x() * b.x() + a.y() * b.y() + a.z() * b.z() + a.w() * b.w();
+    if (dot < 0) {
+        b = Quatd(-b.x(), -b.y(), -b.z(), -b.w());
+        dot = -dot;
+    }
+    if (dot > 0.9995) { // nearly equal: normalized lerp
+        const Quatd q(a.x() + t * (b.x() - a.x()), a.y() + t * (b.y() - a.y()), a.z() + t * (b.z() - a.z()),
+                      a.w() + t * (b.w() - a.w()));
+        return q.unit();
+    }
+    const double theta = std::acos(dot), s = std::sin(theta);
+    const double wa = std::sin((1 - t) * theta) / s, wb = std::sin(t * theta) / s;
+    return Quatd(wa * a.x() + wb * b.x(), wa * a.y() + wb * b.y(), wa * a.z() + wb * b.z(), wa * a.w() + wb * b.w());
+}
+
+} // namespace
+
+Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup.firstFrame)
+{
+    openvdb::initialize();
+    if (setup.lastFrame < setup.firstFrame) throw ValueError("the last frame comes before the first");
+    if (!(setup.fps > 0)) throw ValueError("fps must be positive");
+    int64_t total = 0;
+    for (const CloudSpec& c : setup.clouds) total += c.count;
+    if (total > kMaxParticles)
+        throw ValueError("the clouds ask for " + std::to_string(total) + " particles (at most " +
+                         std::to_string(kMaxParticles) + ")");
+
+    // Meshes and fields, objects in parallel (each build is parallel too).
+    mObjects.resize(mSetup.objects.size());
+    tbb::parallel_for(std::size_t(0), mObjects.size(), [&](std::size_t i) {
+        SimObject& object = mObjects[i];
+        object.spec = &mSetup.objects[i];
+        object.mesh = makeMesh(object.spec->mesh);
+        if (object.spec->repulsion) {
+            object.field = std::make_shared<OctreeField>(OctreeField::build(object.mesh, *object.spec->repulsion));
+            VoxelizeOptions voxelize;
+            voxelize.withLevel = voxelize.withSurface = false;
+            object.forceGrid = voxelizeField(*object.field, voxelize).force;
+        }
+        if (object.spec->isDynamic)
+            for (std::size_t t = 0; t < object.mesh.triangleCount(); ++t) object.centroids.push_back(object.mesh.centroid(t));
+    });
+
+    mStates.resize(mObjects.size());
+    BBoxd domain;
+    mFinestCell = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < mObjects.size(); ++i) {
+        const SimObject& object = mObjects[i];
+        mStates[i].pose = object.spec->transform;
+        mStates[i].velocity = object.spec->isDynamic ? object.spec->velocity : Vec3d(0.0);
+        if (object.spec->isDynamic)
+            mStates[i].pose.rotation = orientationFor(mStates[i].velocity, Vec3d(0.0), false, mStates[i].pose.rotation);
+        if (!object.field) continue;
+        mRepulsive.push_back(i);
+        const double scale = object.spec->transform.scale;
+        mFinestCell = std::min(mFinestCell, object.field->finestCellSize() * scale);
+        const BBoxd& root = object.field->bounds();
+        for (int corner = 0; corner < 8; ++corner) {
+            const Vec3d p(corner & 1 ? root.max()[0] : root.min()[0], corner & 2 ? root.max()[1] : root.min()[1],
+                          corner & 4 ? root.max()[2] : root.min()[2]);
+            domain.expand(object.spec->transform.worldFromObject(p));
+        }
+    }
+    if (!std::isfinite(mFinestCell)) mFinestCell = 1.0; // no fields: steps bounded by the unit length
+
+    // Clouds: each from its own seed stream, mixed with the scene's seed.
+    mParticles.reserve(std::size_t(total));
+    uint32_t nextId = 0;
+    for (std::size_t c = 0; c < mSetup.clouds.size(); ++c) {
+        const CloudSpec& cloud = mSetup.clouds[c];
+        std::mt19937_64 random(mSetup.seed * 0x9e3779b97f4a7c15ull ^ (cloud.seed + 0x632be59bd9b4e019ull * (c + 1)));
+        for (int64_t k = 0; k < cloud.count; ++k) {
+            mParticles.position.emplace_back(samplePointIn(cloud, random));
+            mParticles.velocity.emplace_back(cloud.velocity);
+            mParticles.id.push_back(nextId++);
+            mParticles.radius.push_back(float(cloud.particleRadius));
+            mParticles.cloud.push_back(uint16_t(c));
+        }
+        domain.expand(BBoxd(cloud.center - cloud.radii, cloud.center + cloud.radii));
+    }
+    mDomain = mSetup.options.domain.value_or(domain);
+    mStatesAtFrameStart = mStates;
+}
+
+Transform Simulator::poseAt(std::size_t object, double time) const
+{
+    if (!mObjects[object].spec->isDynamic) return mStates[object].pose;
+    const double t0 = mSetup.frameTime(mFrame - 1), t1 = mSetup.frameTime(mFrame);
+    const double s = t1 > t0 ? std::clamp((time - t0) / (t1 - t0), 0.0, 1.0) : 1.0;
+    const Transform& a = mStatesAtFrameStart[object].pose;
+    const Transform& b = mStates[object].pose;
+    Transform pose = b;
+    pose.translation = a.translation + (b.translation - a.translation) * s;
+    pose.rotation = slerp(a.rotation, b.rotation, s);
+    return pose;
+}
+
+Vec3d Simulator::repulsion(const Vec3d& p, double time, openvdb::Vec3SGrid::ConstAccessor* accessors) const
+{
+    Vec3d force(0.0);
+    for (std::size_t k = 0; k < mRepulsive.size(); ++k) {
+        const std::size_t i = mRepulsive[k];
+        const SimObject& object = mObjects[i];
+        const Transform pose = object.spec->isDynamic ? poseAt(i, time) : mStates[i].pose;
+        const Vec3d local = pose.objectFromWorld(p);
+        if (!object.field->bounds().isInside(local)) continue;
+        const openvdb::Vec3d index = object.forceGrid->transform().worldToIndex(local);
+        openvdb::Vec3s f;
+        if (mSetup.options.sampling == SimulationOptions::Sampling::Nearest)
+            openvdb::tools::PointSampler::sample(accessors[k], index, f);
+        else
+            openvdb::tools::BoxSampler::sample(accessors[k], index, f);
+        force += pose.rotateToWorld(Vec3d(f));
+    }
+    return force;
+}
+
+void Simulator::advanceDynamicObjects(double t0, double t1)
+{
+    std::vector<std::size_t> dynamic;
+    for (std::size_t i = 0; i < mObjects.size(); ++i)
+        if (mObjects[i].spec->isDynamic) dynamic.push_back(i);
+    if (dynamic.empty()) return;
+
+    const double reach = mSetup.options.cfl * mFinestCell;
+    double t = t0;
+    uint32_t substeps = 0;
+    while (t < t1) {
+        // All dynamic objects share a substep, so each sees the others where they are.
+        std::vector<Vec3d> acceleration(dynamic.size());
+        double dt = t1 - t;
+        for (std::size_t d = 0; d < dynamic.size(); ++d) {
+            const std::size_t i = dynamic[d];
+            const ObjectSpec& spec = *mObjects[i].spec;
+            const DynamicState& state = mStates[i];
+            Vec3d a(0.0);
+            for (const UniformFieldSpec& field : mSetup.fields) a += field.accelerationAt(state.pose.translation);
+            // The paper's hit test: this object's triangle centroids against every other field.
+            for (const std::size_t j : mRepulsive) {
+                if (j == i) continue;
+                const Transform& other = mStates[j].pose;
+                std::vector<Vec3d> points;
+                points.reserve(mObjects[i].centroids.size());
+                for (const Vec3d& c : mObjects[i].centroids)
+                    points.push_back(other.objectFromWorld(state.pose.worldFromObject(c)));
+                a += other.rotateToWorld(mObjects[j].field->hitTest(points)) / spec.mass;
+            }
+            a -= spec.drag * state.velocity;
+            acceleration[d] = a;
+            dt = std::min(dt, stepLimit(state.velocity.length(), a.length(), reach));
+        }
+        dt = std::max(dt, 1e-9 * (t1 - t0)); // progress even if a limit collapses
+        for (std::size_t d = 0; d < dynamic.size(); ++d) {
+            DynamicState& state = mStates[dynamic[d]];
+            state.velocity += acceleration[d] * dt;
+            state.pose.translation += state.velocity * dt;
+            state.pose.rotation =
+                orientationFor(state.velocity, acceleration[d], mObjects[dynamic[d]].spec->bank, state.pose.rotation);
+        }
+        t = (t1 - t <= dt) ? t1 : t + dt;
+        ++substeps;
+    }
+    mLastStep.dynamicSubsteps = substeps;
+}
+
+void Simulator::advanceParticles(double t0, double t1)
+{
+    const std::size_t n = mParticles.size();
+    std::vector<uint8_t> alive(n, 1);
+    std::vector<uint32_t> substepsOf(n, 0);
+    const double reach = mSetup.options.cfl * mFinestCell;
+
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& range) {
+        std::vector<openvdb::Vec3SGrid::ConstAccessor> accessors;
+        for (const std::size_t i : mRepulsive) accessors.push_back(mObjects[i].forceGrid->getConstAccessor());
+        for (std::size_t p = range.begin(); p != range.end(); ++p) {
+            const CloudSpec& cloud = mSetup.clouds[mParticles.cloud[p]];
+            Vec3d x(mParticles.position[p]), v(mParticles.velocity[p]);
+            double t = t0;
+            uint32_t steps = 0;
+            while (t < t1) {
+                Vec3d a(0.0);
+                for (const UniformFieldSpec& field : mSetup.fields) a += field.accelerationAt(x);
+                a += repulsion(x, t, accessors.data()) / cloud.mass;
+                a -= cloud.drag * v;
+                double dt = std::min(t1 - t, stepLimit(v.length(), a.length(), reach));
+                dt = std::max(dt, 1e-9 * (t1 - t0));
+                v += a * dt;
+                x += v * dt;
+                t = (t1 - t <= dt) ? t1 : t + dt;
+                ++steps;
+                if (!mDomain.isInside(x)) {
+                    alive[p] = 0;
+                    break;
+                }
+            }
+            mParticles.position[p] = Vec3f(x);
+            mParticles.velocity[p] = Vec3f(v);
+            substepsOf[p] = steps;
+        }
+    });
+
+    for (std::size_t p = 0; p < n; ++p) {
+        mLastStep.substeps += substepsOf[p];
+        mLastStep.maxSubsteps = std::max(mLastStep.maxSubsteps, substepsOf[p]);
+        if (!alive[p]) ++mLastStep.removed;
+    }
+    mRemovedTotal += mLastStep.removed;
+    if (mLastStep.removed > 0) mParticles.keep(alive);
+}
+
+void Simulator::advanceFrame()
+{
+    const double t0 = mSetup.frameTime(mFrame), t1 = mSetup.frameTime(mFrame + 1);
+    mLastStep = {};
+    mStatesAtFrameStart = mStates;
+    advanceDynamicObjects(t0, t1);
+    ++mFrame; // poseAt interpolates between the two frames' poses
+    advanceParticles(t0, t1);
+}
+
+openvdb::Vec3SGrid::Ptr Simulator::staticForceGrid() const
+{
+    openvdb::Vec3SGrid::Ptr combined;
+    for (const std::size_t i : mRepulsive) {
+        const SimObject& object = mObjects[i];
+        if (object.spec->isDynamic) continue;
+        const Transform& pose = mStates[i].pose;
+        // Forces rotate with the object; positions follow its transform.
+        openvdb::Vec3SGrid::Ptr world = object.forceGrid->deepCopy();
+        if (!pose.rotation.eq(Quatd::identity()))
+            for (auto it = world->tree().beginValueOn(); it; ++it) it.setValue(openvdb::Vec3s(pose.rotateToWorld(Vec3d(*it))));
+        world->transform().postMult(pose.matrix());
+        if (!combined) {
+            combined = world;
+            continue;
+        }
+        openvdb::Vec3SGrid::Ptr resampled = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
+        resampled->setTransform(combined->transform().copy());
+        openvdb::tools::resampleToMatch<openvdb::tools::PointSampler>(*world, *resampled);
+        openvdb::tools::compSum(*combined, *resampled);
+    }
+    if (!combined) combined = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
+    combined->setName("force");
+    return combined;
+}
+
+namespace {
+
+template<typename T>
+void put(std::string& out, const T& value)
+{
+    out.append(reinterpret_cast<const char*>(&value), sizeof value);
+}
+
+template<typename T>
+void putVector(std::string& out, const std::vector<T>& values)
+{
+    put(out, uint64_t(values.size()));
+    out.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+}
+
+class Reader {
+public:
+    explicit Reader(const std::string& bytes) : mBytes(bytes) {}
+    template<typename T>
+    T get()
+    {
+        T value;
+        need(sizeof value);
+        std::memcpy(&value, mBytes.data() + mAt, sizeof value);
+        mAt += sizeof value;
+        return value;
+    }
+    template<typename T>
+    void getVector(std::vector<T>& values)
+    {
+        const auto n = get<uint64_t>();
+        need(n * sizeof(T));
+        values.resize(n);
+        std::memcpy(values.data(), mBytes.data() + mAt, n * sizeof(T));
+        mAt += n * sizeof(T);
+    }
+    bool atEnd() const { return mAt == mBytes.size(); }
+
+private:
+    void need(uint64_t n) const
+    {
+        if (n > mBytes.size() - mAt) throw ValueError("the saved simulation state is truncated");
+    }
+    const std::string& mBytes;
+    std::size_t mAt = 0;
+};
+
+constexpr uint64_t kStateMagic = 0x3174617473646676ull; // "vfdstat1"
+
+} // namespace
+
+std::string Simulator::serializeState() const
+{
+    std::string out;
+    put(out, kStateMagic);
+    put(out, int32_t(mFrame));
+    put(out, mRemovedTotal);
+    put(out, uint64_t(mStates.size()));
+    for (const DynamicState& s : mStates) {
+        put(out, s.pose.translation);
+        put(out, s.pose.rotation);
+        put(out, s.pose.scale);
+        put(out, s.velocity);
+    }
+    putVector(out, mParticles.position);
+    putVector(out, mParticles.velocity);
+    putVector(out, mParticles.id);
+    putVector(out, mParticles.radius);
+    putVector(out, mParticles.cloud);
+    return out;
+}
+
+void Simulator::restoreState(const std::string& bytes)
+{
+    Reader in(bytes);
+    if (in.get<uint64_t>() != kStateMagic) throw ValueError("not a vfield simulation state");
+    const int frame = in.get<int32_t>();
+    const auto removed = in.get<uint64_t>();
+    if (in.get<uint64_t>() != mStates.size()) throw ValueError("the saved state is of another scene (object count)");
+    std::vector<DynamicState> states(mStates.size());
+    for (DynamicState& s : states) {
+        s.pose.translation = in.get<Vec3d>();
+        s.pose.rotation = in.get<Quatd>();
+        s.pose.scale = in.get<double>();
+        s.velocity = in.get<Vec3d>();
+    }
+    ParticleSet particles;
+    in.getVector(particles.position);
+    in.getVector(particles.velocity);
+    in.getVector(particles.id);
+    in.getVector(particles.radius);
+    in.getVector(particles.cloud);
+    const std::size_t n = particles.size();
+    if (!in.atEnd() || particles.velocity.size() != n || particles.id.size() != n || particles.radius.size() != n ||
+        particles.cloud.size() != n)
+        throw ValueError("the saved simulation state is inconsistent");
+    for (const uint16_t c : particles.cloud)
+        if (c >= mSetup.clouds.size()) throw ValueError("the saved state is of another scene (cloud index)");
+    if (frame < mSetup.firstFrame || frame > mSetup.lastFrame) throw ValueError("the saved state's frame is out of range");
+    mFrame = frame;
+    mRemovedTotal = removed;
+    mStates = std::move(states);
+    mStatesAtFrameStart = mStates;
+    mParticles = std::move(particles);
+}
+
+} // namespace vfield

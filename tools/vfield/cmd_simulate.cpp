@@ -1,0 +1,69 @@
+// vfield simulate SCENE -o DIR: the scene's animation as OpenVDB volumes and
+// particles per frame, with tracks and statistics.
+
+#include "command.h"
+#include "progress.h"
+
+#include <vfield/scene/simulation_run.h>
+
+#include <tbb/global_control.h>
+
+#include <cstdio>
+#include <memory>
+
+namespace vfield::cli {
+
+namespace {
+
+std::string describe(const ClearanceStats& c)
+{
+    if (c.samples == 0) return "nothing measured";
+    char text[160];
+    std::snprintf(text, sizeof text, "min %.4g, 1st percentile %.4g, %llu penetrations in %llu samples", c.minimum,
+                  c.percentile1, static_cast<unsigned long long>(c.penetrations),
+                  static_cast<unsigned long long>(c.samples));
+    return text;
+}
+
+} // namespace
+
+Runner registerSimulate(CLI::App& app, const GlobalOptions& global)
+{
+    struct Options {
+        std::string scene, output, frames;
+        int threads = 0;
+    };
+    auto o = std::make_shared<Options>();
+    CLI::App* command = app.add_subcommand("simulate", "Animate a scene and write OpenVDB volumes and particles per frame");
+    command->add_option("scene", o->scene, "Scene file (JSON, see scenes/README.md)")->required();
+    command->add_option("-o,--output", o->output, "Output folder (resumes a run of the same scene found there)")->required();
+    command->add_option("--frames", o->frames, "Frames to write, A-B or A [default: the scene's range]");
+    command->add_option("--threads", o->threads, "Worker threads [default: all cores]")->check(CLI::PositiveNumber);
+
+    return [o, command, &global] {
+        std::unique_ptr<tbb::global_control> threads;
+        if (o->threads > 0)
+            threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, o->threads);
+        const Scene scene = loadScene(o->scene);
+        SimulateOptions options;
+        if (command->count("--frames") > 0) {
+            int first = 0, last = 0;
+            parseFrameRange(o->frames, first, last);
+            options.firstFrame = first;
+            options.lastFrame = last;
+        }
+        ProgressLine progress(global.quiet);
+        options.progress = [&progress](const FrameProgress& p) {
+            progress.update(p.done, p.total, p.elapsedSeconds,
+                            "(frame " + std::to_string(p.frame) + ", " + std::to_string(p.alive) + " particles)");
+        };
+        const SimulateSummary summary = simulateScene(scene, o->output, options);
+        for (const std::string& warning : summary.warnings) log(global, "warning: " + warning);
+        if (summary.resumedAfterFrame >= 0)
+            log(global, "resumed after frame " + std::to_string(summary.resumedAfterFrame));
+        log(global, "clearance of particles: " + describe(summary.worstParticles));
+        log(global, "clearance of dynamic objects' vertices: " + describe(summary.worstDynamic));
+    };
+}
+
+} // namespace vfield::cli

@@ -1,0 +1,48 @@
+#include "progress.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <unistd.h>
+
+namespace vfield::cli {
+
+ProgressLine::ProgressLine(bool quiet) : mQuiet(quiet), mIsTerminal(::isatty(STDERR_FILENO) != 0) {}
+
+ProgressLine::~ProgressLine()
+{
+    if (mOpenLine) std::fputc('\n', stderr);
+}
+
+void ProgressLine::update(int done, int total, double elapsed, const std::string& detail)
+{
+    if (mQuiet) return;
+    const double remaining = done > 0 ? elapsed / done * (total - done) : 0.0;
+    const int seconds = int(remaining + 0.5);
+    std::fprintf(stderr, "%sframe %d/%d  %s  elapsed %.1fs  ETA %d:%02d%s", mIsTerminal ? "\r\033[K" : "", done, total,
+                 detail.c_str(), elapsed, seconds / 60, seconds % 60, mIsTerminal ? "" : "\n");
+    std::fflush(stderr);
+    mOpenLine = mIsTerminal;
+}
+
+void parseFrameRange(const std::string& text, int& first, int& last)
+{
+    const std::size_t dash = text.find('-', 1);
+    try {
+        std::size_t used = 0;
+        first = std::stoi(text.substr(0, dash), &used);
+        if (used != (dash == std::string::npos ? text.size() : dash)) throw std::invalid_argument(text);
+        if (dash == std::string::npos) {
+            last = first;
+        } else {
+            const std::string tail = text.substr(dash + 1);
+            last = std::stoi(tail, &used);
+            if (used != tail.size()) throw std::invalid_argument(text);
+        }
+    } catch (const std::exception&) {
+        throw CLI::ValidationError("--frames", "expected A-B or A, got '" + text + "'");
+    }
+    if (last < first) throw CLI::ValidationError("--frames", "the range " + text + " ends before it starts");
+}
+
+} // namespace vfield::cli
