@@ -80,7 +80,7 @@ TEST_CASE("cli: a bad mesh is one error line and exit 1; bad usage is exit 2", "
 TEST_CASE("cli: every subcommand has help", "[cli]")
 {
     const std::string dir = vfield::test::scratchDir("cli-help");
-    for (const char* command : {"make-mesh", "probe", "bake-field", "field-slice", "info"}) {
+    for (const char* command : {"make-mesh", "probe", "bake-field", "field-slice", "info", "simulate", "export-mesh"}) {
         const Run help = vfieldCli(std::string(command) + " --help", dir);
         INFO(command);
         CHECK(help.exitCode == 0);
@@ -106,4 +106,49 @@ TEST_CASE("cli: make-mesh then bake-field then info and field-slice chain into f
     INFO(slice.err);
     CHECK(slice.exitCode == 0);
     CHECK(std::filesystem::file_size(dir + "/s.png") > 1000);
+}
+
+TEST_CASE("cli: a bad scene is one line naming the file and the JSON path", "[cli]")
+{
+    const std::string dir = vfield::test::scratchDir("cli-bad-scene");
+    std::ofstream(dir + "/s.json") << R"({"version": 1, "objects": [], "clouds": [{"count": -5}]})";
+    const Run run = vfieldCli("simulate " + dir + "/s.json -o " + dir + "/out", dir);
+    CHECK(run.exitCode == 1);
+    CHECK(run.err == "vfield simulate: " + dir + "/s.json: /clouds/0/count: expected a positive integer, got -5\n");
+    CHECK_FALSE(std::filesystem::exists(dir + "/out"));
+    const Run frames = vfieldCli("simulate " + dir + "/s.json -o " + dir + "/out --frames 9-3", dir);
+    CHECK(frames.exitCode == 2);
+}
+
+TEST_CASE("cli: simulate writes frames and progress and export-mesh places objects", "[cli]")
+{
+    const std::string dir = vfield::test::scratchDir("cli-simulate");
+    std::ofstream(dir + "/s.json") << R"({"version": 1, "frames": {"start": 1, "end": 4, "fps": 24},
+      "objects": [{"name": "ground", "mesh": {"box": {"min": [-20, -2, -20], "max": [20, 0, 20]}},
+                   "transform": {"translate": [0, -1, 0]}, "repulsion": {"maxLevel": 5}},
+                  {"name": "dart", "mesh": {"box": {"min": [-1, -0.2, -0.2], "max": [1, 0.2, 0.2]}},
+                   "motion": "dynamic", "velocity": [0, 0, -10], "transform": {"translate": [0, 5, 0]}}],
+      "clouds": [{"count": 500, "center": [0, 6, 0], "radius": 2}],
+      "fields": [{"acceleration": [0, -9.81, 0]}]})";
+    const Run run = vfieldCli("simulate " + dir + "/s.json -o " + dir + "/out --frames 2-4", dir);
+    INFO(run.err);
+    REQUIRE(run.exitCode == 0);
+    CHECK(run.err.find("frame 4/4") != std::string::npos); // plain progress lines when not a terminal
+    CHECK(run.err.find("clearance of particles: min") != std::string::npos);
+    for (const char* name : {"field.vdb", "density.0002.vdb", "density.0004.vdb", "particles.0004.vdb", "tracks.json",
+                             "stats.json"})
+        CHECK(std::filesystem::exists(dir + "/out/" + name));
+    CHECK_FALSE(std::filesystem::exists(dir + "/out/density.0001.vdb"));
+
+    const Run quiet = vfieldCli("simulate " + dir + "/s.json -o " + dir + "/out2 --quiet", dir);
+    CHECK(quiet.err.empty());
+
+    REQUIRE(vfieldCli("export-mesh " + dir + "/s.json --object ground -o " + dir + "/g.obj", dir).exitCode == 0);
+    CHECK(slurp(dir + "/g.obj").find("v -20 -3 -20") != std::string::npos); // world space
+    REQUIRE(vfieldCli("export-mesh " + dir + "/s.json --object dart --frame 4 --sim " + dir + "/out -o " + dir + "/d.obj",
+                      dir)
+                .exitCode == 0);
+    const Run missing = vfieldCli("export-mesh " + dir + "/s.json --object plane -o " + dir + "/p.obj", dir);
+    CHECK(missing.exitCode == 1);
+    CHECK(missing.err == "vfield export-mesh: " + dir + "/s.json: no object named \"plane\"\n");
 }

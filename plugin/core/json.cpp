@@ -218,6 +218,12 @@ JsonValue parseJson(const std::string& text, const std::string& file)
         if (colon != std::string::npos) why = why.substr(colon + 2);
         throw ParseError(file, "line " + std::to_string(line) + ", column " + std::to_string(column),
                          "JSON syntax error: " + why);
+    } catch (const nlohmann::json::exception& e) {
+        // e.g. a number too large for a double; nlohmann gives no position for these.
+        std::string why = e.what();
+        const std::size_t bracket = why.find("] ");
+        if (bracket != std::string::npos) why = why.substr(bracket + 2);
+        throw ParseError(file, "document", "JSON error: " + why);
     }
     const nlohmann::json* root = document.get();
     return JsonValue(std::move(document), root, file, "/");

@@ -4,8 +4,10 @@
 #include <vfield/core/error.h>
 
 #include <openvdb/io/File.h>
+#include <openvdb/points/PointDataGrid.h>
 
 #include <cstring>
+#include <sstream>
 
 namespace vfield {
 
@@ -113,6 +115,21 @@ uint64_t gridChecksum(const openvdb::GridBase& grid)
     const openvdb::math::Mat4d matrix = grid.transform().baseMap()->getAffineMap()->getMat4();
     hash.add(matrix.asPointer(), 16 * sizeof(double));
 
+    if (const auto* points = dynamic_cast<const openvdb::points::PointDataGrid*>(&grid)) {
+        // Points: each leaf's origin, then every attribute's name and values.
+        for (auto leaf = points->tree().cbeginLeaf(); leaf; ++leaf) {
+            const openvdb::Coord origin = leaf->origin();
+            hash.add(&origin, sizeof origin);
+            const openvdb::points::AttributeSet::Descriptor& descriptor = leaf->attributeSet().descriptor();
+            for (const auto& [name, index] : descriptor.map()) {
+                hash.add(name);
+                std::ostringstream bytes;
+                leaf->constAttributeArray(index).writeBuffers(bytes, /*outputTransient=*/false);
+                hash.add(bytes.str());
+            }
+        }
+        return hash.value();
+    }
     using DenseValueGrids = openvdb::NumericGridTypes::Append<openvdb::Vec3GridTypes>::Append<openvdb::BoolGrid, openvdb::MaskGrid>;
     const bool known = grid.apply<DenseValueGrids>([&hash](const auto& typed) {
         addValue(hash, typed.background());

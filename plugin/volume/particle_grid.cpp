@@ -8,6 +8,7 @@ namespace vfield {
 openvdb::GridBase::Ptr makeParticleGrid(const ParticleSet& particles)
 {
     using namespace openvdb;
+    initialize(); // registers the point attribute types
     const points::PointAttributeVector<Vec3f> positions(particles.position);
     const float voxelSize = particles.size() > 8 ? points::computeVoxelSize(positions, 8) : 1.0f;
     const auto transform = math::Transform::createLinearTransform(voxelSize);

@@ -37,7 +37,8 @@ Runner registerSimulate(CLI::App& app, const GlobalOptions& global)
     CLI::App* command = app.add_subcommand("simulate", "Animate a scene and write OpenVDB volumes and particles per frame");
     command->add_option("scene", o->scene, "Scene file (JSON, see scenes/README.md)")->required();
     command->add_option("-o,--output", o->output, "Output folder (resumes a run of the same scene found there)")->required();
-    command->add_option("--frames", o->frames, "Frames to write, A-B or A [default: the scene's range]");
+    command->add_option("--frames", o->frames, "Frames to write, A-B or A [default: the scene's range]")
+        ->check(frameRangeValidator());
     command->add_option("--threads", o->threads, "Worker threads [default: all cores]")->check(CLI::PositiveNumber);
 
     return [o, command, &global] {
@@ -48,7 +49,7 @@ Runner registerSimulate(CLI::App& app, const GlobalOptions& global)
         SimulateOptions options;
         if (command->count("--frames") > 0) {
             int first = 0, last = 0;
-            parseFrameRange(o->frames, first, last);
+            parseFrameRange(o->frames, first, last); // validated while parsing
             options.firstFrame = first;
             options.lastFrame = last;
         }

@@ -1,8 +1,7 @@
 #include "progress.h"
 
-#include <CLI/CLI.hpp>
-
 #include <cstdio>
+#include <stdexcept>
 #include <unistd.h>
 
 namespace vfield::cli {
@@ -25,24 +24,32 @@ void ProgressLine::update(int done, int total, double elapsed, const std::string
     mOpenLine = mIsTerminal;
 }
 
-void parseFrameRange(const std::string& text, int& first, int& last)
+std::string parseFrameRange(const std::string& text, int& first, int& last)
 {
     const std::size_t dash = text.find('-', 1);
     try {
         std::size_t used = 0;
         first = std::stoi(text.substr(0, dash), &used);
         if (used != (dash == std::string::npos ? text.size() : dash)) throw std::invalid_argument(text);
-        if (dash == std::string::npos) {
-            last = first;
-        } else {
+        last = first;
+        if (dash != std::string::npos) {
             const std::string tail = text.substr(dash + 1);
             last = std::stoi(tail, &used);
             if (used != tail.size()) throw std::invalid_argument(text);
         }
     } catch (const std::exception&) {
-        throw CLI::ValidationError("--frames", "expected A-B or A, got '" + text + "'");
+        return "expected A-B or A, got '" + text + "'";
     }
-    if (last < first) throw CLI::ValidationError("--frames", "the range " + text + " ends before it starts");
+    if (last < first) return "the range " + text + " ends before it starts";
+    return {};
+}
+
+std::function<std::string(const std::string&)> frameRangeValidator()
+{
+    return [](const std::string& text) {
+        int first = 0, last = 0;
+        return parseFrameRange(text, first, last);
+    };
 }
 
 } // namespace vfield::cli

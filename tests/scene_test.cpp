@@ -1,0 +1,75 @@
+#include "test_meshes.h"
+
+#include <vfield/core/error.h>
+#include <vfield/scene/scene.h>
+
+#include <catch2/catch.hpp>
+
+#include <fstream>
+
+using namespace vfield;
+
+namespace {
+
+const std::string kObjects = R"("objects": [{"name": "ground", "mesh": {"box": {"min": [-1, -1, -1], "max": [1, 0, 1]}}}])";
+
+Scene sceneWith(const std::string& body) { return parseScene("{\"version\": 1, " + kObjects + body + "}", "s.json"); }
+
+} // namespace
+
+TEST_CASE("scene: defaults fill everything but the objects", "[scene]")
+{
+    const Scene scene = sceneWith("");
+    CHECK(scene.simulation.firstFrame == 1);
+    CHECK(scene.simulation.lastFrame == 120);
+    CHECK(scene.simulation.fps == 24.0);
+    CHECK(scene.simulation.objects.size() == 1);
+    CHECK(scene.simulation.objects[0].repulsion.has_value());
+    CHECK(scene.render.image.width == 640);
+    CHECK(scene.simulation.options.sampling == SimulationOptions::Sampling::Nearest);
+}
+
+TEST_CASE("scene: both showcase scenes parse", "[scene]")
+{
+    for (const char* name : {"cloud_over_terrain.json", "canyon_flythrough.json"}) {
+        INFO(name);
+        const Scene scene = loadScene(std::string(VFIELD_SCENES_DIR) + "/" + name);
+        CHECK_FALSE(scene.simulation.objects.empty());
+    }
+}
+
+TEST_CASE("scene: bad values are refused with their JSON path", "[scene]")
+{
+    CHECK_THROWS_WITH(sceneWith(R"(, "clouds": [{"count": -5}])"),
+                      "s.json: /clouds/0/count: expected a positive integer, got -5");
+    CHECK_THROWS_WITH(sceneWith(R"(, "clouds": [{"cuont": 5}])"), "s.json: /clouds/0/cuont: unknown key \"cuont\"");
+    CHECK_THROWS_WITH(sceneWith(R"(, "frames": {"start": 10, "end": 2})"), Catch::Contains("/frames: \"end\" comes before"));
+    CHECK_THROWS_WITH(sceneWith(R"(, "simulation": {"sampling": "cubic"})"), Catch::Contains("/simulation/sampling"));
+    CHECK_THROWS_WITH(sceneWith(R"(, "camera": {"follow": {"object": "ground"}})"), Catch::Contains("not a dynamic object"));
+    CHECK_THROWS_WITH(parseScene(R"({"version": 2, "objects": []})", "s.json"), Catch::Contains("/version"));
+    CHECK_THROWS_WITH(parseScene(R"({"version": 1})", "s.json"), "s.json: /: missing key \"objects\"");
+    CHECK_THROWS_WITH(
+        parseScene(R"({"version": 1, "objects": [{"name": "a", "mesh": {"box": {}}, "mass": 3}]})", "s.json"),
+        Catch::Contains("/objects/0/mass: \"mass\" applies to dynamic objects only"));
+}
+
+TEST_CASE("scene: absurd sizes are refused before anything is allocated", "[scene]")
+{
+    CHECK_THROWS_WITH(sceneWith(R"(, "clouds": [{"count": 100000000000}])"), Catch::Contains("/clouds/0/count"));
+    CHECK_THROWS_WITH(sceneWith(R"(, "clouds": [{"count": 30000000}, {"count": 30000000}])"),
+                      Catch::Contains("/clouds/1: the clouds ask for more than"));
+    CHECK_THROWS_WITH(sceneWith(R"(, "clouds": [{"radius": 1000}], "volume": {"voxelSize": 0.001})"),
+                      Catch::Contains("raise volume.voxelSize"));
+    CHECK_THROWS_WITH(parseScene(R"({"version": 1, "objects": [{"name": "t", "mesh": {"terrain": {"cells": [100000, 10]}}}]})",
+                                 "s.json"),
+                      Catch::Contains("/objects/0/mesh/terrain/cells/0"));
+}
+
+TEST_CASE("scene: a mesh file path is relative to the scene file", "[scene]")
+{
+    const std::string dir = test::scratchDir("scene-paths");
+    std::ofstream(dir + "/scene.json") << R"({"version": 1, "objects": [{"name": "m", "mesh": {"file": "meshes/m.obj"}}]})";
+    const Scene scene = loadScene(dir + "/scene.json");
+    CHECK(scene.simulation.objects[0].mesh.path == dir + "/meshes/m.obj");
+    CHECK_THROWS_WITH(loadScene(dir + "/none.json"), dir + "/none.json: no such file");
+}

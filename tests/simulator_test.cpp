@@ -1,0 +1,218 @@
+#include "sim_test_scenes.h"
+#include "test_meshes.h"
+
+#include <vfield/core/vdb_file.h>
+#include <vfield/scene/simulation_run.h>
+#include <vfield/sim/clearance.h>
+#include <vfield/sim/simulator.h>
+
+#include <catch2/catch.hpp>
+
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <filesystem>
+
+using namespace vfield;
+
+namespace {
+
+Vec3d onlyParticle(const Simulator& sim) { return Vec3d(sim.particles().position.at(0)); }
+
+void runFrames(Simulator& sim, int frames)
+{
+    for (int i = 0; i < frames; ++i) sim.advanceFrame();
+}
+
+} // namespace
+
+TEST_CASE("transform: 90 degrees about y turns +x into -z", "[sim]")
+{
+    const Quatd q = Transform::rotationFromDegrees({0, 90, 0});
+    const Vec3d v = rotate(q, {1, 0, 0});
+    CHECK(v[0] == Approx(0).margin(1e-12));
+    CHECK(v[2] == Approx(-1).margin(1e-12));
+    Transform t;
+    t.rotation = q;
+    t.translation = Vec3d(1, 2, 3);
+    t.scale = 2.0;
+    const Vec3d p(0.3, -0.2, 0.7);
+    CHECK((t.objectFromWorld(t.worldFromObject(p)) - p).length() < 1e-12);
+    CHECK((t.matrix().transform(p) - t.worldFromObject(p)).length() < 1e-12);
+}
+
+TEST_CASE("simulator: free fall with drag follows the analytic solution", "[sim]")
+{
+    // Semi-implicit Euler is first order: its drift is about g t dt / 2, so
+    // frames of 1/240 s keep it near 0.3% here (at 24 fps it would be 3%).
+    const double g = 9.81, k = 0.5;
+    Simulator sim(test::singleParticleScene(R"([{"acceleration": [0, -9.81, 0]}])", 481, k, 240.0).simulation);
+    runFrames(sim, 480); // 2 seconds
+    const double t = 2.0;
+    const double y = -(g / k) * t + (g / (k * k)) * (1 - std::exp(-k * t));
+    const double v = -(g / k) * (1 - std::exp(-k * t));
+    CHECK(onlyParticle(sim)[1] == Approx(y).epsilon(0.01));
+    CHECK(sim.particles().velocity[0][1] == Approx(v).epsilon(0.01));
+    CHECK(std::abs(onlyParticle(sim)[0]) < 1e-8);
+}
+
+TEST_CASE("simulator: a particle reaches terminal velocity g over drag", "[sim]")
+{
+    Simulator sim(test::singleParticleScene(R"([{"acceleration": [0, -9.81, 0]}])", 241, 2.0).simulation);
+    runFrames(sim, 240); // 10 s = 20 time constants
+    CHECK(sim.particles().velocity[0][1] == Approx(-9.81 / 2.0).epsilon(1e-4));
+}
+
+TEST_CASE("simulator: substeps keep each move within cfl of the finest cell", "[sim]")
+{
+    // No fields: the step bound is cfl x 1 world unit; a particle at 100 units/s
+    // moving 100/24 units a frame takes ceil(4.17 / 0.5) = 9 substeps.
+    const std::string text = R"({"version": 1, "frames": {"start": 1, "end": 2, "fps": 24}, "objects": [],
+      "clouds": [{"count": 1, "shape": "box", "halfSize": [1e-9, 1e-9, 1e-9], "velocity": [100, 0, 0], "drag": 0}],
+      "simulation": {"domain": {"min": [-1000, -1000, -1000], "max": [1000, 1000, 1000]}}})";
+    Simulator sim(parseScene(text, "fast.json").simulation);
+    sim.advanceFrame();
+    CHECK(sim.lastStep().maxSubsteps == 9);
+    CHECK(onlyParticle(sim)[0] == Approx(100.0 / 24.0));
+}
+
+TEST_CASE("simulator: a uniform field acts only inside its box and fades across its soft edge", "[sim]")
+{
+    UniformFieldSpec field;
+    field.acceleration = Vec3d(0, 0, 4);
+    field.box = BBoxd(Vec3d(0.0), Vec3d(10.0));
+    field.softEdge = 2.0;
+    CHECK(field.accelerationAt({5, 5, 5}) == Vec3d(0, 0, 4));
+    CHECK(field.accelerationAt({11, 5, 5}) == Vec3d(0, 0, 2));   // halfway across the edge
+    CHECK(field.accelerationAt({12.5, 5, 5}) == Vec3d(0, 0, 0)); // beyond it
+
+    // A particle outside a hard-edged box stays at rest.
+    Simulator sim(test::singleParticleScene(
+                      R"([{"acceleration": [5, 0, 0], "box": {"min": [10, -1, -1], "max": [20, 1, 1]}}])", 25, 0.0)
+                      .simulation);
+    runFrames(sim, 24);
+    CHECK(onlyParticle(sim).length() < 1e-8);
+}
+
+TEST_CASE("simulator: particles leaving the domain are removed and counted", "[sim]")
+{
+    const std::string text = R"({"version": 1, "frames": {"start": 1, "end": 30, "fps": 10}, "objects": [],
+      "clouds": [{"count": 100, "center": [0, 0, 0], "radius": 1, "velocity": [10, 0, 0], "drag": 0}],
+      "simulation": {"domain": {"min": [-5, -5, -5], "max": [5, 5, 5]}}})";
+    Simulator sim(parseScene(text, "leave.json").simulation);
+    runFrames(sim, 10); // 1 s at 10 units/s: all beyond x = 5
+    CHECK(sim.particles().size() == 0);
+    CHECK(sim.removedTotal() == 100);
+}
+
+TEST_CASE("simulator: a dynamic object's nose follows its velocity", "[sim]")
+{
+    const std::string text = R"({"version": 1, "frames": {"start": 1, "end": 3, "fps": 24},
+      "objects": [{"name": "dart", "mesh": {"box": {"min": [-1, -0.2, -0.2], "max": [1, 0.2, 0.2]}},
+                   "motion": "dynamic", "velocity": [0, 0, -10], "repulsion": false}]})";
+    Simulator sim(parseScene(text, "dart.json").simulation);
+    sim.advanceFrame();
+    const Transform& pose = sim.objectStates()[0].pose;
+    const Vec3d nose = pose.rotateToWorld({1, 0, 0});
+    CHECK(nose[2] == Approx(-1).margin(1e-9));
+    CHECK(pose.translation[2] == Approx(-10.0 / 24.0));
+}
+
+TEST_CASE("clearance: points just below the terrain count as inside", "[sim]")
+{
+    const Scene scene = test::showcaseAtTestResolution("cloud_over_terrain.json", 10, 2);
+    const Simulator sim(scene.simulation);
+    const ClearanceProbe probe(sim);
+    REQUIRE(probe.warnings().empty()); // the terrain is closed
+    const TerrainOptions& terrain = scene.simulation.objects[0].mesh.terrain;
+    for (const Vec2d& xz : {Vec2d(0, 0), Vec2d(-40, 30), Vec2d(45, -20), Vec2d(-90, 80)}) {
+        const double h = terrainHeight(terrain, xz[0], xz[1]);
+        INFO("at x " << xz[0] << " z " << xz[1] << " height " << h);
+        CHECK(probe.distance({xz[0], h - 0.3, xz[1]}) < 0.0);
+        CHECK(probe.distance({xz[0], h + 0.6, xz[1]}) > 0.0);
+        // Three units above the ground lie 3 n_y from its tangent plane.
+        const double e = 0.01;
+        const Vec3d normal = Vec3d(-(terrainHeight(terrain, xz[0] + e, xz[1]) - terrainHeight(terrain, xz[0] - e, xz[1])) / (2 * e), 1.0,
+                                   -(terrainHeight(terrain, xz[0], xz[1] + e) - terrainHeight(terrain, xz[0], xz[1] - e)) / (2 * e))
+                                 .unitSafe();
+        CHECK(probe.distance({xz[0], h + 3.0, xz[1]}) == Approx(3.0 * normal[1]).margin(0.5));
+    }
+}
+
+TEST_CASE("showcase: the cloud crosses the terrain without a penetration", "[sim][showcase]")
+{
+    const Scene scene = test::showcaseAtTestResolution("cloud_over_terrain.json", 4000, 240);
+    const std::string dir = test::scratchDir("cloud-showcase");
+    const SimulateSummary summary = simulateScene(scene, dir, {240, 240, {}});
+    CHECK(summary.worstParticles.penetrations == 0);
+    CHECK(summary.worstParticles.minimum > 0.5);
+    // It drifts across, passes the ridge and leaves the scene.
+    CHECK(summary.frames.back().removed > 1000);
+    CHECK(summary.frames.back().centroid[0] > 80.0);
+}
+
+TEST_CASE("showcase: the airplane flies the canyon without touching it", "[sim][showcase]")
+{
+    const Scene scene = test::showcaseAtTestResolution("canyon_flythrough.json", 0, 300);
+    const std::string dir = test::scratchDir("canyon-showcase");
+    const SimulateSummary summary = simulateScene(scene, dir, {300, 300, {}});
+    CHECK(summary.worstDynamic.penetrations == 0);
+    CHECK(summary.worstDynamic.minimum > 0.0);
+}
+
+TEST_CASE("simulator: the same scene gives the same grids for 1 and 2 threads", "[sim][determinism]")
+{
+    const Scene scene = test::showcaseAtTestResolution("cloud_over_terrain.json", 3000, 30);
+    const std::string one = test::scratchDir("threads-1"), two = test::scratchDir("threads-2");
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+        simulateScene(scene, one);
+    }
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+        simulateScene(scene, two);
+    }
+    for (const std::string name : {"field.vdb", "density.0030.vdb", "particles.0030.vdb", "density.0011.vdb"}) {
+        const openvdb::GridPtrVec a = readVdb(one + "/" + name), b = readVdb(two + "/" + name);
+        REQUIRE(a.size() == b.size());
+        for (std::size_t i = 0; i < a.size(); ++i) {
+            INFO(name << " grid " << a[i]->getName());
+            CHECK(gridChecksum(*a[i]) == gridChecksum(*b[i]));
+        }
+    }
+}
+
+TEST_CASE("simulator: a killed run resumes and ends as an uninterrupted one", "[sim][resume]")
+{
+    const Scene scene = test::showcaseAtTestResolution("cloud_over_terrain.json", 2000, 24);
+    const std::string whole = test::scratchDir("resume-whole"), killed = test::scratchDir("resume-killed");
+    simulateScene(scene, whole);
+
+    // "Kill" the run after frame 10: the progress callback throws out of it.
+    SimulateOptions stopAt10;
+    stopAt10.progress = [](const FrameProgress& p) {
+        if (p.frame == 10) throw std::runtime_error("killed");
+    };
+    CHECK_THROWS_WITH(simulateScene(scene, killed, stopAt10), "killed");
+    CHECK(std::filesystem::exists(killed + "/density.0010.vdb"));
+    CHECK_FALSE(std::filesystem::exists(killed + "/density.0011.vdb"));
+
+    const SimulateSummary resumed = simulateScene(scene, killed);
+    CHECK(resumed.resumedAfterFrame == 10);
+    CHECK(resumed.frames.size() == 24);
+    for (const std::string name : {"density.0024.vdb", "particles.0024.vdb", "density.0011.vdb"}) {
+        const openvdb::GridPtrVec a = readVdb(whole + "/" + name), b = readVdb(killed + "/" + name);
+        for (std::size_t i = 0; i < a.size(); ++i) CHECK(gridChecksum(*a[i]) == gridChecksum(*b[i]));
+    }
+    // No temporary files are left behind.
+    for (const auto& entry : std::filesystem::directory_iterator(killed))
+        CHECK(entry.path().filename().string().find(".tmp-") == std::string::npos);
+}
+
+TEST_CASE("simulator: an output folder of another scene is refused", "[sim][resume]")
+{
+    const std::string dir = test::scratchDir("other-scene");
+    simulateScene(test::showcaseAtTestResolution("cloud_over_terrain.json", 100, 2), dir);
+    CHECK_THROWS_WITH(simulateScene(test::showcaseAtTestResolution("cloud_over_terrain.json", 101, 2), dir),
+                      Catch::Contains("holds a run of another scene"));
+}
