@@ -12,6 +12,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
 
 using namespace vfield;
 
@@ -153,11 +156,23 @@ TEST_CASE("showcase: the cloud crosses the terrain without a penetration", "[sim
 
 TEST_CASE("showcase: the airplane flies the canyon without touching it", "[sim][showcase]")
 {
-    const Scene scene = test::showcaseAtTestResolution("canyon_flythrough.json", 0, 300);
+    const Scene scene = test::showcaseAtTestResolution("canyon_flythrough.json", 0, 360);
     const std::string dir = test::scratchDir("canyon-showcase");
-    const SimulateSummary summary = simulateScene(scene, dir, {300, 300, {}});
+    const SimulateSummary summary = simulateScene(scene, dir, {360, 360, {}});
     CHECK(summary.worstDynamic.penetrations == 0);
-    CHECK(summary.worstDynamic.minimum > 0.0);
+    CHECK(summary.worstDynamic.minimum > 0.3);
+    // It flies the whole canyon, below its rims, and never stalls.
+    std::ifstream in(dir + "/tracks.json");
+    const nlohmann::json track = nlohmann::json::parse(in).at("objects").at("airplane");
+    double slowest = 1e9, highest = -1e9;
+    for (const nlohmann::json& entry : track) {
+        const auto v = entry.at("velocity").get<std::vector<double>>();
+        slowest = std::min(slowest, std::hypot(v[0], v[2]));
+        highest = std::max(highest, entry.at("position").at(1).get<double>());
+    }
+    CHECK(track.back().at("position").at(0).get<double>() > 140.0); // past the terrain's far edge
+    CHECK(slowest > 3.0);
+    CHECK(highest < 10.0); // the rims stand at about 20 and higher
 }
 
 TEST_CASE("simulator: the same scene gives the same grids for 1 and 2 threads", "[sim][determinism]")
