@@ -1,6 +1,10 @@
 #include "test_meshes.h"
 
+#include <vfield/core/vdb_file.h>
+
 #include <catch2/catch.hpp>
+
+#include <cmath>
 
 #include <cstdlib>
 #include <filesystem>
@@ -80,7 +84,8 @@ TEST_CASE("cli: a bad mesh is one error line and exit 1; bad usage is exit 2", "
 TEST_CASE("cli: every subcommand has help", "[cli]")
 {
     const std::string dir = vfield::test::scratchDir("cli-help");
-    for (const char* command : {"make-mesh", "probe", "bake-field", "field-slice", "info", "simulate", "export-mesh"}) {
+    for (const char* command :
+         {"make-mesh", "probe", "bake-field", "field-slice", "info", "simulate", "export-mesh", "render", "run"}) {
         const Run help = vfieldCli(std::string(command) + " --help", dir);
         INFO(command);
         CHECK(help.exitCode == 0);
@@ -151,4 +156,51 @@ TEST_CASE("cli: simulate writes frames and progress and export-mesh places objec
     const Run missing = vfieldCli("export-mesh " + dir + "/s.json --object plane -o " + dir + "/p.obj", dir);
     CHECK(missing.exitCode == 1);
     CHECK(missing.err == "vfield export-mesh: " + dir + "/s.json: no object named \"plane\"\n");
+}
+
+TEST_CASE("cli: render refuses bad simulations with one line and writes no image", "[cli][render]")
+{
+    const std::string dir = vfield::test::scratchDir("cli-render-bad");
+    std::ofstream(dir + "/s.json") << R"({"version": 1, "frames": {"start": 1, "end": 3, "fps": 24},
+      "objects": [{"name": "ground", "mesh": {"box": {"min": [-20, -2, -20], "max": [20, 0, 20]}}}],
+      "clouds": [{"count": 300, "center": [0, 6, 0], "radius": 2}],
+      "camera": {"position": [0, 10, 40], "lookAt": [0, 2, 0]}, "render": {"resolution": [64, 36], "samplesPerPixel": 1}})";
+    const auto render = [&](const std::string& sim) {
+        return vfieldCli("render " + dir + "/s.json --sim " + sim + " -o " + dir + "/img --frames 2", dir);
+    };
+    const Run noSim = render(dir + "/none");
+    CHECK(noSim.exitCode == 1);
+    CHECK(noSim.err == "vfield render: " + dir + "/none: no such simulation folder\n");
+
+    REQUIRE(vfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim -q", dir).exitCode == 0);
+    const Run good = render(dir + "/sim");
+    INFO(good.err);
+    CHECK(good.exitCode == 0);
+    CHECK(std::filesystem::exists(dir + "/img/frame.0002.png"));
+    std::filesystem::remove_all(dir + "/img");
+
+    std::filesystem::remove(dir + "/sim/density.0002.vdb");
+    const Run missing = render(dir + "/sim");
+    CHECK(missing.exitCode == 1);
+    CHECK(missing.err == "vfield render: " + dir + "/sim/density.0002.vdb: missing (simulate these frames first)\n");
+
+    std::ofstream(dir + "/sim/density.0002.vdb") << "not a vdb";
+    const Run corrupt = render(dir + "/sim");
+    CHECK(corrupt.exitCode == 1);
+    CHECK(corrupt.err.rfind("vfield render: " + dir + "/sim/density.0002.vdb: ", 0) == 0);
+    CHECK(lineCount(corrupt.err) == 1);
+
+    // A VDB without a density grid, and one with a NaN voxel.
+    openvdb::initialize();
+    openvdb::FloatGrid::Ptr other = openvdb::FloatGrid::create(0.0f);
+    other->setName("temperature");
+    vfield::writeVdb(dir + "/sim/density.0002.vdb", {other});
+    CHECK(render(dir + "/sim").err == "vfield render: " + dir + "/sim/density.0002.vdb: no grid named 'density'\n");
+    openvdb::FloatGrid::Ptr nan = openvdb::FloatGrid::create(0.0f);
+    nan->setName("density");
+    nan->tree().setValue(openvdb::Coord(1, 2, 3), std::nanf(""));
+    vfield::writeVdb(dir + "/sim/density.0002.vdb", {nan});
+    CHECK(render(dir + "/sim").err ==
+          "vfield render: " + dir + "/sim/density.0002.vdb: grid 'density' holds a non-finite value at voxel (1, 2, 3)\n");
+    CHECK_FALSE(std::filesystem::exists(dir + "/img/frame.0002.png"));
 }

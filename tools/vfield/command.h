@@ -24,6 +24,8 @@ Runner registerFieldSlice(CLI::App& app, const GlobalOptions& global);
 Runner registerInfo(CLI::App& app, const GlobalOptions& global);
 Runner registerSimulate(CLI::App& app, const GlobalOptions& global);
 Runner registerExportMesh(CLI::App& app, const GlobalOptions& global);
+Runner registerRender(CLI::App& app, const GlobalOptions& global);
+Runner registerRun(CLI::App& app, const GlobalOptions& global);
 
 /// A log line on stderr, unless --quiet.
 void log(const GlobalOptions& global, const std::string& line);

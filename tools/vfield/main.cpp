@@ -41,7 +41,8 @@ int main(int argc, char** argv)
         {"make-mesh", registerMakeMesh(app, global)},   {"probe", registerProbe(app, global)},
         {"bake-field", registerBakeField(app, global)}, {"field-slice", registerFieldSlice(app, global)},
         {"info", registerInfo(app, global)},             {"simulate", registerSimulate(app, global)},
-        {"export-mesh", registerExportMesh(app, global)},
+        {"export-mesh", registerExportMesh(app, global)}, {"render", registerRender(app, global)},
+        {"run", registerRun(app, global)},
     };
 
     try {

@@ -29,8 +29,8 @@ struct SunSettings {
 };
 
 struct SkySettings {
-    Vec3d zenithColor{0.25, 0.45, 0.85};  ///< linear RGB
-    Vec3d horizonColor{0.7, 0.8, 0.95};   ///< linear RGB
+    Vec3d zenithColor{0.12, 0.28, 0.75};  ///< linear RGB
+    Vec3d horizonColor{0.55, 0.68, 0.9};  ///< linear RGB
     double intensity = 1.0;
 };
 
@@ -40,7 +40,7 @@ struct ImageSettings {
     double volumeStep = 0.5;        ///< ray-march step in the volume, world units
     double extinction = 1.0;        ///< sigma_t per unit density, 1 / world units
     double albedo = 0.9;            ///< scattering / extinction (0..1)
-    double anisotropy = 0.6;        ///< Henyey-Greenstein g (-1..1)
+    double anisotropy = 0.3;        ///< Henyey-Greenstein g (-1..1)
 };
 
 struct RenderSettings {

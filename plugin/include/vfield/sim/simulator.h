@@ -53,6 +53,9 @@ public:
     /// Loads or generates every mesh and builds and voxelizes the fields (in
     /// parallel), then spawns the clouds. Throws on bad input.
     explicit Simulator(const SimulationSetup& setup);
+    // Objects point into the setup it owns: no copies (restoreState() resets one).
+    Simulator(const Simulator&) = delete;
+    Simulator& operator=(const Simulator&) = delete;
 
     const SimulationSetup& setup() const { return mSetup; }
     int frame() const { return mFrame; }

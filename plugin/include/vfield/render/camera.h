@@ -1,0 +1,26 @@
+#pragma once
+/// @file camera.h
+/// A pinhole camera: right-handed, y up, vertical field of view in degrees.
+/// Pixel (0, 0) is the top-left corner of the image.
+
+#include <vfield/render/render_settings.h>
+
+namespace vfield {
+
+class Camera {
+public:
+    Camera(const Vec3d& position, const Vec3d& lookAt, const Vec3d& up, double fovDegrees, int width, int height);
+    /// The settings' camera; a following camera sits at target + offset and looks at target.
+    static Camera fromSettings(const CameraSettings& settings, int width, int height, const Vec3d* followTarget = nullptr);
+
+    const Vec3d& position() const { return mPosition; }
+    /// Unit direction through the image point (x right, y down, in pixels).
+    Vec3d direction(double x, double y) const;
+
+private:
+    Vec3d mPosition, mForward, mRight, mUp;
+    double mTanHalf, mAspect;
+    int mWidth, mHeight;
+};
+
+} // namespace vfield

@@ -1,0 +1,42 @@
+#pragma once
+/// @file renderer.h
+/// Surfaces (Embree) + a cloud volume (OpenVDB) + camera, sun and sky -> a
+/// linear RGBA image with depth. Surfaces are shaded by the sun (shadowed by
+/// surfaces and by the cloud) and the sky; the cloud is composited between
+/// the camera and the first surface, so it sits correctly in front of or behind hills.
+///
+/// Every sample's random numbers come from a counter-based generator keyed by
+/// (frame, pixel, sample), so images are identical for any thread count.
+
+#include <vfield/render/camera.h>
+#include <vfield/render/cloud_volume.h>
+#include <vfield/render/surfaces.h>
+
+#include <map>
+#include <vector>
+
+namespace vfield {
+
+struct RenderImage {
+    int width = 0, height = 0;
+    std::vector<float> rgba;  ///< linear, premultiplied; alpha 1 where something (not sky) was seen
+    std::vector<float> depth; ///< camera distance to the first surface; +inf for sky
+};
+
+struct FrameToRender {
+    const RenderSettings* settings = nullptr;
+    const SurfaceScene* surfaces = nullptr;
+    std::map<int, SurfaceMaterial> materials; ///< per object; Painted where missing
+    const CloudVolume* volume = nullptr;      ///< may be null: surfaces only
+    Camera camera{Vec3d(0, 0, 1), Vec3d(0.0), Vec3d(0, 1, 0), 45, 1, 1};
+    int frame = 0;                            ///< keys the random numbers
+    int width = 640, height = 360, samplesPerPixel = 4;
+    double terrainLow = 0.0, terrainHigh = 1.0; ///< heights for the terrain's colours
+};
+
+RenderImage renderFrame(const FrameToRender& frame);
+
+/// The sky's radiance in a direction (gradient from horizon to zenith, and the sun's glow).
+Vec3d skyRadiance(const RenderSettings& settings, const Vec3d& dir);
+
+} // namespace vfield

@@ -1,0 +1,58 @@
+#pragma once
+/// @file surfaces.h
+/// Scene meshes -> Embree: every static mesh in one BVH (world space, built
+/// once), each dynamic mesh in its own BVH placed per frame as an instance.
+/// Answers closest hits (with a smooth shading normal) and shadow queries.
+
+#include <vfield/core/transform.h>
+#include <vfield/mesh/triangle_mesh.h>
+
+#include <memory>
+#include <vector>
+
+namespace vfield {
+
+/// How a surface is coloured.
+enum class SurfaceMaterial {
+    Terrain, ///< grass, rock and snow by height and slope
+    Painted  ///< one base colour
+};
+
+struct SurfaceHit {
+    double distance = 0.0; ///< along the (unit) ray
+    Vec3d position;        ///< world space
+    Vec3d normal;          ///< world space, unit, facing the ray
+    Vec3d geometricNormal; ///< world space, unit, facing the ray
+    int object = -1;       ///< index given to addStatic / addDynamic
+};
+
+class SurfaceScene {
+public:
+    SurfaceScene();
+    ~SurfaceScene();
+    SurfaceScene(const SurfaceScene&) = delete;
+    SurfaceScene& operator=(const SurfaceScene&) = delete;
+
+    /// A static mesh placed once (world = transform x mesh).
+    void addStatic(int object, const TriangleMesh& mesh, const Transform& transform);
+    /// A dynamic mesh, in object space; place it with setPose before commit().
+    void addDynamic(int object, const TriangleMesh& mesh);
+    void setPose(int object, const Transform& pose);
+    /// Builds what changed: the static BVH the first time, the instances always.
+    void commit();
+
+    /// The closest hit along origin + t dir (dir unit), t in (tMin, tMax).
+    bool intersect(const Vec3d& origin, const Vec3d& dir, double tMin, double tMax, SurfaceHit& hit) const;
+    /// Is anything in the way within (tMin, tMax)?
+    bool occluded(const Vec3d& origin, const Vec3d& dir, double tMin, double tMax) const;
+
+    /// World-space box of all static geometry (empty when there is none).
+    const BBoxd& staticBounds() const { return mStaticBounds; }
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> mImpl;
+    BBoxd mStaticBounds;
+};
+
+} // namespace vfield

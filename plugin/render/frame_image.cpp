@@ -1,0 +1,62 @@
+#include <vfield/render/frame_image.h>
+
+#include <vfield/core/error.h>
+#include <vfield/core/image_file.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace vfield {
+
+namespace {
+
+float linearToSrgb(float v)
+{
+    v = std::clamp(v, 0.0f, 1.0f);
+    return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
+
+bool endsWith(const std::string& text, const std::string& tail)
+{
+    return text.size() >= tail.size() && text.compare(text.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+} // namespace
+
+OIIO::ImageBuf toDisplay(const RenderImage& image)
+{
+    OIIO::ImageBuf buf(OIIO::ImageSpec(image.width, image.height, 3, OIIO::TypeDesc::FLOAT));
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) {
+            const float* p = &image.rgba[4 * (std::size_t(y) * image.width + x)];
+            const float rgb[3] = {linearToSrgb(p[0]), linearToSrgb(p[1]), linearToSrgb(p[2])};
+            buf.setpixel(x, y, rgb, 3);
+        }
+    return buf;
+}
+
+OIIO::ImageBuf toLinear(const RenderImage& image)
+{
+    OIIO::ImageSpec spec(image.width, image.height, 5, OIIO::TypeDesc::FLOAT);
+    spec.channelnames = {"R", "G", "B", "A", "Z"};
+    spec.alpha_channel = 3;
+    spec.z_channel = 4;
+    OIIO::ImageBuf buf(spec);
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) {
+            const std::size_t i = std::size_t(y) * image.width + x;
+            const float* p = &image.rgba[4 * i];
+            const float values[5] = {p[0], p[1], p[2], p[3], image.depth[i]};
+            buf.setpixel(x, y, values, 5);
+        }
+    return buf;
+}
+
+void writeFrameImage(const RenderImage& image, const std::string& path)
+{
+    if (endsWith(path, ".png")) writeImage(toDisplay(image), path);
+    else if (endsWith(path, ".exr")) writeImage(toLinear(image), path);
+    else throw FileError(path, "frames are written as .png or .exr");
+}
+
+} // namespace vfield

@@ -1,0 +1,142 @@
+// vfield render SCENE --sim DIR -o OUT: image sequences of a simulated scene.
+
+#include "command.h"
+#include "progress.h"
+
+#include <vfield/core/error.h>
+#include <vfield/scene/render_run.h>
+#include <vfield/scene/simulation_run.h>
+
+#include <tbb/global_control.h>
+
+#include <cstdio>
+#include <memory>
+#include <sstream>
+
+namespace vfield::cli {
+
+namespace {
+
+struct RenderCliOptions {
+    std::string frames, resolution, formats = "png", backend = "embree";
+    int spp = 0, threads = 0;
+    bool force = false;
+};
+
+void addRenderOptions(CLI::App& command, RenderCliOptions& o)
+{
+    command.add_option("--frames", o.frames, "Frames to render, A-B or A [default: the scene's range]")
+        ->check(frameRangeValidator());
+    command.add_option("--backend", o.backend, "Renderer")->check(CLI::IsMember({"embree"}))->capture_default_str();
+    command.add_option("--resolution", o.resolution, "Image size WxH [default: the scene's]")
+        ->check([](const std::string& text) {
+            int w = 0, h = 0;
+            char x = 0;
+            std::istringstream in(text);
+            return (in >> w >> x >> h) && x == 'x' && w > 0 && h > 0 && w <= 16384 && h <= 16384 && in.eof()
+                       ? std::string()
+                       : "expected WxH, e.g. 1280x720, got '" + text + "'";
+        });
+    command.add_option("--spp", o.spp, "Samples per pixel [default: the scene's]")->check(CLI::Range(1, 65536));
+    command.add_option("--format", o.formats, "png, exr or png,exr")
+        ->check(CLI::IsMember({"png", "exr", "png,exr", "exr,png"}))
+        ->capture_default_str();
+    command.add_option("--threads", o.threads, "Worker threads [default: all cores]")->check(CLI::PositiveNumber);
+    command.add_flag("--force", o.force, "Render frames whose images exist");
+}
+
+RenderRunOptions toRunOptions(const RenderCliOptions& o, const CLI::App& command)
+{
+    RenderRunOptions options;
+    if (command.count("--frames") > 0) {
+        int first = 0, last = 0;
+        parseFrameRange(o.frames, first, last); // validated while parsing
+        options.firstFrame = first;
+        options.lastFrame = last;
+    }
+    if (command.count("--resolution") > 0) {
+        int w = 0, h = 0;
+        std::sscanf(o.resolution.c_str(), "%dx%d", &w, &h);
+        options.width = w;
+        options.height = h;
+    }
+    if (command.count("--spp") > 0) options.samplesPerPixel = o.spp;
+    options.formats.clear();
+    std::istringstream list(o.formats);
+    for (std::string format; std::getline(list, format, ',');) options.formats.push_back(format);
+    options.force = o.force;
+    return options;
+}
+
+void renderWithProgress(const Scene& scene, const std::string& simDir, const std::string& output, RenderRunOptions options,
+                        const GlobalOptions& global)
+{
+    ProgressLine progress(global.quiet);
+    options.progress = [&progress](int frame, int done, int total, double seconds) {
+        progress.update(done, total, seconds, "(rendered frame " + std::to_string(frame) + ")");
+    };
+    const RenderRunSummary summary = renderScene(scene, simDir, output, options);
+    char line[160];
+    std::snprintf(line, sizeof line, "rendered %d frames (%.3f s each), skipped %d already complete", summary.rendered,
+                  summary.secondsPerFrame, summary.skipped);
+    log(global, line);
+}
+
+} // namespace
+
+Runner registerRender(CLI::App& app, const GlobalOptions& global)
+{
+    struct Options {
+        std::string scene, sim, output;
+        RenderCliOptions render;
+    };
+    auto o = std::make_shared<Options>();
+    CLI::App* command = app.add_subcommand("render", "Render a simulated scene to OUT/frame.####.png (or .exr)");
+    command->add_option("scene", o->scene, "Scene file")->required();
+    command->add_option("--sim", o->sim, "Simulation folder (from vfield simulate)")->required();
+    command->add_option("-o,--output", o->output, "Output folder")->required();
+    addRenderOptions(*command, o->render);
+
+    return [o, command, &global] {
+        std::unique_ptr<tbb::global_control> threads;
+        if (o->render.threads > 0)
+            threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, o->render.threads);
+        renderWithProgress(loadScene(o->scene), o->sim, o->output, toRunOptions(o->render, *command), global);
+    };
+}
+
+Runner registerRun(CLI::App& app, const GlobalOptions& global)
+{
+    struct Options {
+        std::string scene, output;
+        RenderCliOptions render;
+    };
+    auto o = std::make_shared<Options>();
+    CLI::App* command = app.add_subcommand(
+        "run", "Simulate and render a scene: OUT/sim/ (volumes, particles, tracks, stats) and OUT/frame.####.png");
+    command->add_option("scene", o->scene, "Scene file")->required();
+    command->add_option("-o,--output", o->output, "Output folder")->required();
+    addRenderOptions(*command, o->render);
+
+    return [o, command, &global] {
+        std::unique_ptr<tbb::global_control> threads;
+        if (o->render.threads > 0)
+            threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, o->render.threads);
+        const Scene scene = loadScene(o->scene);
+        const RenderRunOptions options = toRunOptions(o->render, *command);
+        SimulateOptions simulate;
+        simulate.firstFrame = options.firstFrame;
+        simulate.lastFrame = options.lastFrame;
+        {
+            ProgressLine progress(global.quiet);
+            simulate.progress = [&progress](const FrameProgress& p) {
+                progress.update(p.done, p.total, p.elapsedSeconds,
+                                "(simulated frame " + std::to_string(p.frame) + ", " + std::to_string(p.alive) + " particles)");
+            };
+            simulateScene(scene, o->output + "/sim", simulate);
+        }
+        renderWithProgress(scene, o->output + "/sim", o->output, options, global);
+    };
+}
+
+} // namespace vfield::cli
