@@ -74,6 +74,7 @@ ImageSettings imageSettingsFromJson(const JsonValue& json)
     s.extinction = o.number("extinction", s.extinction, 0, 1e9);
     s.albedo = o.number("albedo", s.albedo, 0, 1);
     s.anisotropy = o.number("anisotropy", s.anisotropy, -0.99, 0.99);
+    s.skipEmptySpace = o.boolean("skipEmptySpace", s.skipEmptySpace);
     o.finish();
     return s;
 }

@@ -10,11 +10,15 @@
 /// cloud's box (through the cloud, and zero where a surface blocks the sun),
 /// so a shading sample costs one lookup instead of a march to the sun; the
 /// sky's light reaches a sample through the cloud above it, from a second grid.
+/// With ImageSettings::skipEmptySpace, rays march only through the OpenVDB
+/// nodes that hold density (tools::VolumeRayIntersector).
 
 #include <vfield/render/render_settings.h>
 #include <vfield/render/surfaces.h>
 
 #include <openvdb/openvdb.h>
+
+#include <memory>
 
 namespace vfield {
 
@@ -53,6 +57,8 @@ private:
     openvdb::FloatGrid::Ptr transmittanceGrid(const Vec3d& towards, const SurfaceScene* occluders) const;
 
     openvdb::FloatGrid::Ptr mSunTransmittance, mSkyTransmittance; ///< share one transform
+    struct EmptySpaceSkipper; ///< OpenVDB's VolumeRayIntersector, one copy per thread
+    std::shared_ptr<EmptySpaceSkipper> mSkipper;   ///< null: march the whole box
     BBoxd mBounds;
     Vec3d mToSun;
     double mExtinction, mAlbedo, mAnisotropy, mStep;

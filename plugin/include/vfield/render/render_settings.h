@@ -41,6 +41,9 @@ struct ImageSettings {
     double extinction = 1.0;        ///< sigma_t per unit density, 1 / world units
     double albedo = 0.9;            ///< scattering / extinction (0..1)
     double anisotropy = 0.3;        ///< Henyey-Greenstein g (-1..1)
+    /// March only through OpenVDB nodes holding density (VolumeRayIntersector)
+    /// instead of across the cloud's whole box.
+    bool skipEmptySpace = true;
 };
 
 struct RenderSettings {
