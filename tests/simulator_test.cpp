@@ -229,5 +229,13 @@ TEST_CASE("simulator: an output folder of another scene is refused", "[sim][resu
     const std::string dir = test::scratchDir("other-scene");
     simulateScene(test::showcaseAtTestResolution("cloud_over_terrain.json", 100, 2), dir);
     CHECK_THROWS_WITH(simulateScene(test::showcaseAtTestResolution("cloud_over_terrain.json", 101, 2), dir),
-                      Catch::Contains("holds a run of another scene"));
+                      Catch::Contains("holds a simulation of another scene"));
+}
+
+TEST_CASE("simulator: editing how a scene looks keeps its simulation resumable", "[sim][resume]")
+{
+    const std::string text = R"({"version": 1, "objects": [], "camera": {"fovDegrees": 30}})";
+    const std::string other = R"({"version": 1,   "objects": [], "camera": {"fovDegrees": 60}, "sun": {"intensity": 2}})";
+    CHECK(parseScene(text, "a.json").simulationHash == parseScene(other, "a.json").simulationHash);
+    CHECK(parseScene(text, "a.json").simulationHash != parseScene(R"({"version": 1, "objects": [], "seed": 2})", "a.json").simulationHash);
 }

@@ -2,6 +2,8 @@
 
 #include <vfield/core/error.h>
 
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -48,7 +50,10 @@ Scene parseScene(const std::string& text, const std::string& file)
     JsonObject o(root);
     Scene scene;
     scene.path = file;
-    scene.contentHash = hashBytes(text);
+    nlohmann::json simulated = nlohmann::json::object();
+    for (const char* key : {"version", "frames", "seed", "objects", "clouds", "fields", "simulation", "volume"})
+        if (root.raw().contains(key)) simulated[key] = root.raw().at(key);
+    scene.simulationHash = hashBytes(simulated.dump());
 
     const JsonValue version = o.at("version");
     if (version.asInteger(1, INT32_MAX) != 1) version.fail("this vfield reads scene version 1");

@@ -186,17 +186,18 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
 
     // Resume after the last complete frame of an earlier run of this scene.
     SavedRun run;
-    run.sceneHash = scene.contentHash;
+    run.sceneHash = scene.simulationHash;
     const std::string statePath = out("state.bin");
     if (fs::exists(statePath)) {
         SavedRun saved = decode(readFile(statePath), statePath);
-        if (saved.sceneHash == scene.contentHash) {
+        if (saved.sceneHash == scene.simulationHash) {
             simulator.restoreState(saved.simulatorState);
             if (simulator.frame() > writeLast) throw ValueError("the output folder already holds frames up to " + std::to_string(simulator.frame()));
             run = std::move(saved);
             summary.resumedAfterFrame = simulator.frame();
         } else {
-            throw FileError(outputDir, "holds a run of another scene (or of an edited one): use another folder or remove it");
+            throw FileError(outputDir, "holds a simulation of another scene (or of one whose simulated parts were edited): "
+                                       "use another folder or remove it");
         }
     }
 

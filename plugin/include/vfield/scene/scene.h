@@ -14,7 +14,10 @@ namespace vfield {
 
 struct Scene {
     std::string path;        ///< the scene file
-    uint64_t contentHash = 0; ///< hash of the file's bytes: a resumed run must be of the same scene
+    /// Hash of what the simulation depends on (version, frames, seed, objects,
+    /// clouds, fields, simulation, volume), in canonical form: a resumed run
+    /// must match it. Camera, sun, sky and render settings do not enter it.
+    uint64_t simulationHash = 0;
     SimulationSetup simulation;
     VolumeOptions volume;
     RenderSettings render;
