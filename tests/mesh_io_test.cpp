@@ -35,6 +35,12 @@ void requireRejected(const std::string& path, const std::string& expectedText = 
     }
 }
 
+std::string readWhole(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
 void requireUnitTetrahedron(const TriangleMesh& mesh, const Vec3d& offset = Vec3d(0.0))
 {
     CHECK(mesh.points.size() == 4);
@@ -151,8 +157,7 @@ TEST_CASE("mesh io: every prefix of a valid file loads or is refused with one li
     // Truncation at any byte must never crash or hang.
     const std::string dir = test::scratchDir("prefixes");
     for (const char* name : {"tetra.ply", "tetra.stl", "cube_quads.obj", "tetra_translated.gltf"}) {
-        std::ifstream in(test::dataPath(name), std::ios::binary);
-        const std::string whole((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        const std::string whole = readWhole(test::dataPath(name));
         for (std::size_t length = 0; length < whole.size(); ++length) {
             const std::string path = writeFile(dir, std::string("prefix_") + name, whole.substr(0, length));
             try {
@@ -182,8 +187,7 @@ TEST_CASE("mesh io: valid files with random bytes changed load or are refused wi
     const std::string dir = test::scratchDir("mutations");
     std::mt19937 random(5);
     for (const char* name : {"tetra.ply", "tetra.stl", "cube_quads.obj", "tetra_translated.gltf"}) {
-        std::ifstream in(test::dataPath(name), std::ios::binary);
-        const std::string whole((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        const std::string whole = readWhole(test::dataPath(name));
         for (int trial = 0; trial < 300; ++trial) {
             std::string bytes = whole;
             for (int change = 0; change < 1 + trial % 4; ++change) bytes[random() % bytes.size()] = char(random() & 0xff);

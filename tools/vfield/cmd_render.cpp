@@ -7,8 +7,6 @@
 #include <vfield/scene/render_run.h>
 #include <vfield/scene/simulation_run.h>
 
-#include <tbb/global_control.h>
-
 #include <cstdio>
 #include <memory>
 #include <sstream>
@@ -98,9 +96,7 @@ Runner registerRender(CLI::App& app, const GlobalOptions& global)
     addRenderOptions(*command, o->render);
 
     return [o, command, &global] {
-        std::unique_ptr<tbb::global_control> threads;
-        if (o->render.threads > 0)
-            threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, o->render.threads);
+        const auto threads = limitThreads(o->render.threads);
         renderWithProgress(loadScene(o->scene), o->sim, o->output, toRunOptions(o->render, *command), global);
     };
 }
@@ -119,9 +115,7 @@ Runner registerRun(CLI::App& app, const GlobalOptions& global)
     addRenderOptions(*command, o->render);
 
     return [o, command, &global] {
-        std::unique_ptr<tbb::global_control> threads;
-        if (o->render.threads > 0)
-            threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, o->render.threads);
+        const auto threads = limitThreads(o->render.threads);
         const Scene scene = loadScene(o->scene);
         const RenderRunOptions options = toRunOptions(o->render, *command);
         SimulateOptions simulate;

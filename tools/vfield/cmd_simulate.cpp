@@ -6,8 +6,6 @@
 
 #include <vfield/scene/simulation_run.h>
 
-#include <tbb/global_control.h>
-
 #include <cstdio>
 #include <memory>
 
@@ -42,9 +40,7 @@ Runner registerSimulate(CLI::App& app, const GlobalOptions& global)
     command->add_option("--threads", o->threads, "Worker threads [default: all cores]")->check(CLI::PositiveNumber);
 
     return [o, command, &global] {
-        std::unique_ptr<tbb::global_control> threads;
-        if (o->threads > 0)
-            threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, o->threads);
+        const auto threads = limitThreads(o->threads);
         const Scene scene = loadScene(o->scene);
         SimulateOptions options;
         if (command->count("--frames") > 0) {

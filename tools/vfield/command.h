@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include <functional>
+#include <memory>
 #include <string>
 
 namespace vfield::cli {
@@ -29,5 +30,8 @@ Runner registerRun(CLI::App& app, const GlobalOptions& global);
 
 /// A log line on stderr, unless --quiet.
 void log(const GlobalOptions& global, const std::string& line);
+
+/// Limits TBB to `threads` workers while the returned object lives; 0: no limit.
+std::shared_ptr<void> limitThreads(int threads);
 
 } // namespace vfield::cli

@@ -4,6 +4,8 @@
 
 #include "command.h"
 
+#include <tbb/global_control.h>
+
 #include <iostream>
 #include <map>
 
@@ -12,6 +14,12 @@ namespace vfield::cli {
 void log(const GlobalOptions& global, const std::string& line)
 {
     if (!global.quiet) std::cerr << line << '\n';
+}
+
+std::shared_ptr<void> limitThreads(int threads)
+{
+    if (threads <= 0) return nullptr;
+    return std::make_shared<tbb::global_control>(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
 }
 
 } // namespace vfield::cli
