@@ -156,9 +156,9 @@ TEST_CASE("showcase: the cloud crosses the terrain without a penetration", "[sim
 
 TEST_CASE("showcase: the airplane flies the canyon without touching it", "[sim][showcase]")
 {
-    const Scene scene = test::showcaseAtTestResolution("canyon_flythrough.json", 0, 360);
+    const Scene scene = test::showcaseAtTestResolution("canyon_flythrough.json", 0, 330);
     const std::string dir = test::scratchDir("canyon-showcase");
-    const SimulateSummary summary = simulateScene(scene, dir, {360, 360, {}});
+    const SimulateSummary summary = simulateScene(scene, dir, {330, 330, {}});
     CHECK(summary.worstDynamic.penetrations == 0);
     CHECK(summary.worstDynamic.minimum > 0.3);
     // It flies the whole canyon, below its rims, and never stalls.

@@ -17,11 +17,14 @@ Camera::Camera(const Vec3d& position, const Vec3d& lookAt, const Vec3d& up, doub
     mAspect = double(width) / double(height);
 }
 
-Camera Camera::fromSettings(const CameraSettings& s, int width, int height, const Vec3d* followTarget)
+Camera Camera::fromSettings(const CameraSettings& s, int width, int height)
 {
-    if (s.followObject && followTarget)
-        return Camera(*followTarget + s.followOffset, *followTarget, s.up, s.fovDegrees, width, height);
     return Camera(s.position, s.lookAt, s.up, s.fovDegrees, width, height);
+}
+
+Camera Camera::looking(const CameraSettings& s, const Vec3d& position, const Vec3d& target, int width, int height)
+{
+    return Camera(position, target, s.up, s.fovDegrees, width, height);
 }
 
 Vec3d Camera::direction(double x, double y) const

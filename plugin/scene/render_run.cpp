@@ -11,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 namespace fs = std::filesystem;
 
@@ -79,6 +80,27 @@ openvdb::FloatGrid::Ptr readDensity(const std::string& path)
     throw FileError(path, "no grid named 'density'");
 }
 
+/// Behind and above the followed object in its heading frame, pulled in front
+/// of any surface between the two so that the object stays in view.
+Camera followCamera(const CameraSettings& settings, const Transform& object, const SurfaceScene& surfaces, int width, int height)
+{
+    Vec3d forward = object.rotateToWorld(Vec3d(1, 0, 0));
+    forward[1] = 0.0;
+    forward = forward.length() > 1e-9 ? forward.unitSafe() : Vec3d(1, 0, 0);
+    const Vec3d up(0, 1, 0), right = forward.cross(up);
+    const Vec3d& o = settings.followOffset;
+    const Vec3d target = object.translation;
+    Vec3d position = target + forward * o[0] + up * o[1] + right * o[2];
+    const Vec3d toCamera = position - target;
+    const double distance = toCamera.length();
+    SurfaceHit hit;
+    // Start past the object's own surfaces; stop short of where terrain begins.
+    const double start = 0.25 * distance;
+    if (distance > 0 && surfaces.intersect(target, toCamera / distance, start, distance, hit))
+        position = target + toCamera / distance * std::max(start, 0.85 * hit.distance);
+    return Camera::looking(settings, position, target, width, height);
+}
+
 } // namespace
 
 RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDir, const std::string& outputDir,
@@ -135,20 +157,20 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
         const std::string densityPath = (fs::path(simulationDir) / frameFileName("density", f, "vdb")).string();
         const openvdb::FloatGrid::Ptr density = readDensity(densityPath);
 
-        Vec3d followTarget(0.0);
+        std::optional<Transform> followed;
         for (std::size_t i = 0; i < setup.objects.size(); ++i) {
             const ObjectSpec& object = setup.objects[i];
             if (!object.isDynamic) continue;
             Transform pose = tracks.pose(object.name, f);
             pose.scale = object.transform.scale;
             surfaces.setPose(int(i), pose);
-            if (scene.render.camera.followObject && *scene.render.camera.followObject == object.name)
-                followTarget = pose.translation;
+            if (scene.render.camera.followObject && *scene.render.camera.followObject == object.name) followed = pose;
         }
         surfaces.commit();
         const CloudVolume volume(density, scene.render.image, scene.render.sun.direction, &surfaces);
         frame.volume = volume.empty() ? nullptr : &volume;
-        frame.camera = Camera::fromSettings(scene.render.camera, frame.width, frame.height, &followTarget);
+        frame.camera = followed ? followCamera(scene.render.camera, *followed, surfaces, frame.width, frame.height)
+                                : Camera::fromSettings(scene.render.camera, frame.width, frame.height);
         frame.frame = f;
         const RenderImage image = renderFrame(frame);
         for (const std::string& path : outputs) writeFrameImage(image, path);

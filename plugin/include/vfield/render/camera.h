@@ -10,8 +10,10 @@ namespace vfield {
 class Camera {
 public:
     Camera(const Vec3d& position, const Vec3d& lookAt, const Vec3d& up, double fovDegrees, int width, int height);
-    /// The settings' camera; a following camera sits at target + offset and looks at target.
-    static Camera fromSettings(const CameraSettings& settings, int width, int height, const Vec3d* followTarget = nullptr);
+    /// The settings' camera (a following camera is placed by followPosition).
+    static Camera fromSettings(const CameraSettings& settings, int width, int height);
+    /// A camera at position looking at target, with the settings' up and field of view.
+    static Camera looking(const CameraSettings& settings, const Vec3d& position, const Vec3d& target, int width, int height);
 
     const Vec3d& position() const { return mPosition; }
     /// Unit direction through the image point (x right, y down, in pixels).

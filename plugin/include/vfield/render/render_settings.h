@@ -17,7 +17,9 @@ struct CameraSettings {
     Vec3d up{0.0, 1.0, 0.0};
     double fovDegrees = 45.0;          ///< vertical field of view (0..180)
     /// Follow a dynamic object: the camera sits at the object's position plus
-    /// offset (world axes) and looks at the object.
+    /// offset, given in the object's heading frame (x forward, y up, z right:
+    /// -x is behind it), and looks at the object; it moves in front of any
+    /// surface between itself and the object.
     std::optional<std::string> followObject;
     Vec3d followOffset{-30.0, 10.0, 0.0};
 };
