@@ -177,6 +177,11 @@ TEST_CASE("cli: render refuses bad simulations with one line and writes no image
     INFO(good.err);
     CHECK(good.exitCode == 0);
     CHECK(std::filesystem::exists(dir + "/img/frame.0002.png"));
+    const auto written = std::filesystem::last_write_time(dir + "/img/frame.0002.png");
+    const Run again = render(dir + "/sim"); // a finished frame is skipped
+    CHECK(again.err.find("rendered 0 frames") != std::string::npos);
+    CHECK(again.err.find("skipped 1") != std::string::npos);
+    CHECK(std::filesystem::last_write_time(dir + "/img/frame.0002.png") == written);
     std::filesystem::remove_all(dir + "/img");
 
     std::filesystem::remove(dir + "/sim/density.0002.vdb");

@@ -1,6 +1,7 @@
 #include "test_meshes.h"
 
 #include <vfield/mesh/procedural.h>
+#include <vfield/render/frame_image.h>
 #include <vfield/render/renderer.h>
 
 #include <catch2/catch.hpp>
@@ -146,4 +147,29 @@ TEST_CASE("render: images are identical for 1 and 2 threads", "[render]")
         two = renderFrame(scene.frame);
     }
     CHECK(one.rgba == two.rgba);
+}
+
+TEST_CASE("render: EXR frames are linear half floats with alpha and depth; PNG is sRGB", "[render]")
+{
+    SmallScene scene;
+    const RenderImage image = renderFrame(scene.frame);
+    const std::string dir = test::scratchDir("render-exr");
+    writeFrameImage(image, dir + "/f.exr");
+    writeFrameImage(image, dir + "/f.png");
+    OIIO::ImageBuf exr(dir + "/f.exr");
+    REQUIRE(exr.read());
+    const OIIO::ImageSpec& spec = exr.spec();
+    CHECK(spec.nchannels == 5);
+    CHECK(spec.channelnames == std::vector<std::string>{"R", "G", "B", "A", "Z"});
+    CHECK(spec.format == OIIO::TypeDesc::HALF);
+    // The pillar's centre: depth is the camera distance, colour the linear value.
+    const int x = 48, y = 24;
+    const float* linear = &image.rgba[4 * (std::size_t(y) * image.width + x)];
+    CHECK(exr.getchannel(x, y, 0, 4) == Approx(image.depth[std::size_t(y) * image.width + x]).epsilon(1e-3));
+    CHECK(exr.getchannel(x, y, 0, 0) == Approx(linear[0]).epsilon(2e-3));
+    CHECK(exr.getchannel(x, y, 0, 3) == 1.0f);
+    OIIO::ImageBuf png(dir + "/f.png");
+    REQUIRE(png.read());
+    const double srgb = linear[0] <= 0.0031308 ? 12.92 * linear[0] : 1.055 * std::pow(linear[0], 1 / 2.4) - 0.055;
+    CHECK(png.getchannel(x, y, 0, 0) == Approx(srgb).margin(1.0 / 255));
 }
