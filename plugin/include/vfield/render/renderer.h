@@ -19,7 +19,9 @@ namespace vfield {
 
 struct RenderImage {
     int width = 0, height = 0;
-    std::vector<float> rgba;  ///< linear, premultiplied; alpha 1 where something (not sky) was seen
+    /// Linear RGB, the sky included; A is the coverage by surfaces and cloud
+    /// (0 for clear sky, between 0 and 1 through thin cloud).
+    std::vector<float> rgba;
     std::vector<float> depth; ///< camera distance to the first surface; +inf for sky
 };
 
@@ -28,7 +30,7 @@ struct FrameToRender {
     const SurfaceScene* surfaces = nullptr;
     std::map<int, SurfaceMaterial> materials; ///< per object; Painted where missing
     const CloudVolume* volume = nullptr;      ///< may be null: surfaces only
-    Camera camera{Vec3d(0, 0, 1), Vec3d(0.0), Vec3d(0, 1, 0), 45, 1, 1};
+    Camera camera{Vec3d(0, 0, 1), Vec3d(0.0), Vec3d(0, 1, 0), 45, 1, 1}; ///< set per frame
     int frame = 0;                            ///< keys the random numbers
     int width = 640, height = 360, samplesPerPixel = 4;
     double terrainLow = 0.0, terrainHigh = 1.0; ///< heights for the terrain's colours
