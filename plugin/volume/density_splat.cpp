@@ -8,6 +8,7 @@
 #include <tbb/parallel_reduce.h>
 #include <tbb/partitioner.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace vfield {
@@ -59,24 +60,43 @@ DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& o
     const int reach = int(std::ceil(radius / voxel));
     const double radiusSqr = radius * radius;
 
+    // Particles in the order of the OpenVDB leaf (8^3 voxels) they fall in, a
+    // stable sort so the order, and with it every float sum, is fixed: each
+    // chunk then touches few leaves and its accessors stay on them.
+    std::vector<uint32_t> order(particles.size());
+    {
+        std::vector<uint64_t> leafKey(particles.size());
+        for (std::size_t p = 0; p < particles.size(); ++p) {
+            const openvdb::Coord c = openvdb::Coord::round(transform->worldToIndex(Vec3d(particles.position[p]))) >> 3;
+            // 21 bits per axis, offset so negative coordinates sort too.
+            leafKey[p] = (uint64_t(c.x() + (1 << 20)) << 42) | (uint64_t(c.y() + (1 << 20)) << 21) | uint64_t(c.z() + (1 << 20));
+            order[p] = uint32_t(p);
+        }
+        std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return leafKey[a] < leafKey[b]; });
+    }
+
+    const double reachSqr = radiusSqr / (voxel * voxel); // the kernel radius squared, in voxels
     const auto splatRange = [&](const tbb::blocked_range<std::size_t>& range, Splat& into) {
         auto weight = into.weight->getAccessor();
         auto momentum = into.momentum->getAccessor();
-        for (std::size_t p = range.begin(); p != range.end(); ++p) {
-            const Vec3d x(particles.position[p]);
+        for (std::size_t n = range.begin(); n != range.end(); ++n) {
+            const std::size_t p = order[n];
             const openvdb::Vec3s v = particles.velocity[p];
-            const openvdb::Vec3d index = transform->worldToIndex(x);
+            const openvdb::Vec3d index = transform->worldToIndex(Vec3d(particles.position[p]));
             const openvdb::Coord centre = openvdb::Coord::round(index);
             for (int i = -reach; i <= reach; ++i)
                 for (int j = -reach; j <= reach; ++j)
                     for (int k = -reach; k <= reach; ++k) {
                         const openvdb::Coord c = centre.offsetBy(i, j, k);
-                        const double r2 = (transform->indexToWorld(c) - x).lengthSqr();
-                        if (r2 >= radiusSqr) continue;
-                        const double q = 1.0 - r2 / radiusSqr;
+                        const double r2 = (c.asVec3d() - index).lengthSqr(); // in voxels: the transform is uniform
+                        if (r2 >= reachSqr) continue;
+                        const double q = 1.0 - r2 / reachSqr;
                         const float w = float(q * q * q);
-                        weight.modifyValue(c, [w](float& value) { value += w; });
-                        momentum.modifyValue(c, [w, &v](openvdb::Vec3s& value) { value += v * w; });
+                        auto* weightLeaf = weight.touchLeaf(c);
+                        auto* momentumLeaf = momentum.touchLeaf(c);
+                        const openvdb::Index offset = weightLeaf->coordToOffset(c);
+                        weightLeaf->setValueOn(offset, weightLeaf->getValue(offset) + w);
+                        momentumLeaf->setValueOn(offset, momentumLeaf->getValue(offset) + v * w);
                     }
         }
     };
