@@ -209,6 +209,8 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
     const bool resumed = summary.resumedAfterFrame >= 0;
     const int total = writeLast - (resumed ? simulator.frame() : setup.firstFrame - 1);
     int done = 0;
+    // A fresh run first records the initial state (the first frame) without
+    // stepping; a resumed run continues after its last complete frame.
     for (bool first = !resumed; simulator.frame() < writeLast || first; first = false) {
         if (!first) simulator.advanceFrame();
         const int frame = simulator.frame();
