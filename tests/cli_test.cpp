@@ -2,6 +2,8 @@
 
 #include <vfield/core/vdb_file.h>
 
+#include <OpenImageIO/imagebuf.h>
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -208,4 +210,38 @@ TEST_CASE("cli: render refuses bad simulations with one line and writes no image
     CHECK(render(dir + "/sim").err ==
           "vfield render: " + dir + "/sim/density.0002.vdb: grid 'density' holds a non-finite value at voxel (1, 2, 3)\n");
     CHECK_FALSE(std::filesystem::exists(dir + "/img/frame.0002.png"));
+}
+
+TEST_CASE("cli: render --backend povray and both write their images; --keep-scene keeps POV-Ray's files", "[cli][povray]")
+{
+    const std::string dir = vfield::test::scratchDir("cli-render-povray");
+    std::ofstream(dir + "/s.json") << R"({"version": 1, "frames": {"start": 1, "end": 2, "fps": 24},
+      "objects": [{"name": "ground", "mesh": {"box": {"min": [-20, -2, -20], "max": [20, 0, 20]}}}],
+      "clouds": [{"count": 300, "center": [0, 6, 0], "radius": 2}],
+      "camera": {"position": [0, 10, 40], "lookAt": [0, 2, 0]}, "render": {"resolution": [48, 27], "samplesPerPixel": 1}})";
+    REQUIRE(vfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim -q", dir).exitCode == 0);
+
+    const Run pov = vfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/pov --backend povray -q", dir);
+    INFO(pov.err);
+    REQUIRE(pov.exitCode == 0);
+    for (const char* frame : {"/pov/frame.0001.png", "/pov/frame.0002.png"}) CHECK(std::filesystem::exists(dir + frame));
+    CHECK_FALSE(std::filesystem::exists(dir + "/pov/povray-scene")); // scene files removed
+
+    const Run both =
+        vfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/both --backend both --keep-scene --frames 2", dir);
+    INFO(both.err);
+    REQUIRE(both.exitCode == 0);
+    CHECK(both.err.find("POV-Ray / Embree = ") != std::string::npos);
+    for (const char* file : {"/both/embree/frame.0002.png", "/both/povray/frame.0002.png", "/both/frame.0002.png",
+                             "/both/povray-scene/frame.0002.pov", "/both/povray-scene/meshes.inc",
+                             "/both/povray-scene/density.0002.df3", "/both/povray-scene/sky_lit.0002.df3"})
+        CHECK(std::filesystem::exists(dir + file));
+    OIIO::ImageBuf sideBySide(dir + "/both/frame.0002.png");
+    REQUIRE(sideBySide.read());
+    CHECK(sideBySide.spec().width == 96);
+    CHECK(sideBySide.spec().height == 27);
+
+    const Run exr = vfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/exr --backend povray --format exr", dir);
+    CHECK(exr.exitCode == 1);
+    CHECK(exr.err == "vfield render: the POV-Ray back-end writes png images only\n");
 }

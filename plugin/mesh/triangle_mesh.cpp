@@ -41,6 +41,18 @@ void TriangleMesh::transform(const Mat4d& worldFromObject)
     for (Vec3f& p : points) p = Vec3f(worldFromObject.transform(Vec3d(p)));
 }
 
+std::vector<Vec3f> vertexNormals(const TriangleMesh& mesh)
+{
+    std::vector<Vec3d> sum(mesh.points.size(), Vec3d(0.0));
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const Vec3d area = mesh.areaVector(t);
+        for (int corner = 0; corner < 3; ++corner) sum[mesh.triangles[t][corner]] += area;
+    }
+    std::vector<Vec3f> normals(sum.size());
+    for (std::size_t i = 0; i < sum.size(); ++i) normals[i] = Vec3f(sum[i].unitSafe());
+    return normals;
+}
+
 std::size_t removeDegenerateTriangles(TriangleMesh& mesh)
 {
     const std::size_t before = mesh.triangles.size();

@@ -123,6 +123,18 @@ double CloudVolume::sunTransmittance(const Vec3d& p) const
     return std::clamp(double(sampler.wsSample(q)), 0.0, 1.0);
 }
 
+openvdb::FloatGrid::Ptr CloudVolume::skyLitDensity() const
+{
+    openvdb::FloatGrid::Ptr lit = mDensity->deepCopy();
+    lit->setName("sky_lit_density");
+    if (mEmpty) return lit;
+    const openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> sky(*mSkyTransmittance);
+    const openvdb::math::Transform& transform = mDensity->transform();
+    for (auto it = lit->beginValueOn(); it; ++it)
+        it.setValue(float(*it * std::clamp(double(sky.wsSample(transform.indexToWorld(it.getCoord()))), 0.0, 1.0)));
+    return lit;
+}
+
 CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, double tMin, double tMax, double jitter,
                                         const Vec3d& sunRadiance, const Vec3d& skyRadiance) const
 {

@@ -3,6 +3,8 @@
 #include <vfield/core/error.h>
 #include <vfield/core/image_file.h>
 
+#include <OpenImageIO/imagebufalgo.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -57,6 +59,22 @@ void writeFrameImage(const RenderImage& image, const std::string& path)
     if (endsWith(path, ".png")) writeImage(toDisplay(image), path);
     else if (endsWith(path, ".exr")) writeImage(toLinear(image), path);
     else throw FileError(path, "frames are written as .png or .exr");
+}
+
+void writeSideBySide(const std::string& left, const std::string& right, const std::string& path)
+{
+    OIIO::ImageBuf a(left), b(right);
+    for (OIIO::ImageBuf* image : {&a, &b})
+        if (!image->read(0, 0, true, OIIO::TypeDesc::FLOAT)) throw FileError(image->name(), "cannot read: " + image->geterror());
+    const int channels = std::min(a.nchannels(), b.nchannels());
+    OIIO::ImageBuf both(OIIO::ImageSpec(a.spec().width + b.spec().width, std::max(a.spec().height, b.spec().height), channels,
+                                        OIIO::TypeDesc::FLOAT));
+    const OIIO::ROI channelsOfBoth(0, a.spec().width, 0, a.spec().height, 0, 1, 0, channels);
+    if (!OIIO::ImageBufAlgo::paste(both, 0, 0, 0, 0, a, channelsOfBoth) ||
+        !OIIO::ImageBufAlgo::paste(both, a.spec().width, 0, 0, 0, b,
+                                   OIIO::ROI(0, b.spec().width, 0, b.spec().height, 0, 1, 0, channels)))
+        throw FileError(path, "cannot compose the images: " + both.geterror());
+    writeImage(both, path);
 }
 
 } // namespace vfield

@@ -34,34 +34,7 @@ private:
     uint64_t mState;
 };
 
-double smoothstep(double a, double b, double x)
-{
-    const double t = std::clamp((x - a) / (b - a), 0.0, 1.0);
-    return t * t * (3.0 - 2.0 * t);
-}
-
-Vec3d lerp(const Vec3d& a, const Vec3d& b, double t) { return a + (b - a) * t; }
-
-/// Grass low and flat, rock where steep, snow high and flat.
-Vec3d terrainAlbedo(const Vec3d& position, const Vec3d& normal, double low, double high)
-{
-    const Vec3d grass(0.16, 0.26, 0.08), dryGrass(0.3, 0.3, 0.14), rock(0.32, 0.29, 0.26), snow(0.82, 0.84, 0.88);
-    const double height = high > low ? (position[1] - low) / (high - low) : 0.0;
-    Vec3d colour = lerp(grass, dryGrass, smoothstep(0.3, 0.7, height));
-    colour = lerp(colour, snow, smoothstep(0.9, 0.97, height) * smoothstep(0.6, 0.85, normal[1]));
-    return lerp(colour, rock, smoothstep(0.82, 0.65, normal[1]));
-}
-
 } // namespace
-
-Vec3d skyRadiance(const RenderSettings& s, const Vec3d& dir)
-{
-    // Horizon to zenith over the lower half of the sky; haze below the horizon.
-    Vec3d sky = lerp(s.sky.horizonColor, s.sky.zenithColor, smoothstep(0.0, 0.5, dir[1])) * s.sky.intensity;
-    const double toSun = std::max(0.0, dir.dot(s.sun.direction.unitSafe()));
-    sky += s.sun.color * (0.25 * std::pow(toSun, 64.0) + 20.0 * std::pow(toSun, 4096.0)) * s.sun.intensity;
-    return sky;
-}
 
 RenderImage renderFrame(const FrameToRender& f)
 {
@@ -80,14 +53,13 @@ RenderImage renderFrame(const FrameToRender& f)
     const auto shadeSurface = [&](const SurfaceHit& hit) {
         const auto material = f.materials.find(hit.object);
         const bool isTerrain = material != f.materials.end() && material->second == SurfaceMaterial::Terrain;
-        const Vec3d albedo = isTerrain ? terrainAlbedo(hit.position, hit.normal, f.terrainLow, f.terrainHigh)
-                                       : Vec3d(0.62, 0.62, 0.66);
+        const Vec3d albedo = surfaceAlbedo(isTerrain ? SurfaceMaterial::Terrain : SurfaceMaterial::Painted, hit.position,
+                                           hit.normal, f.terrainLow, f.terrainHigh);
         const Vec3d offset = hit.position + hit.geometricNormal * 1e-3 * (1.0 + hit.distance);
         double sun = std::max(0.0, hit.normal.dot(toSun));
         if (sun > 0 && f.surfaces->occluded(offset, toSun, 0.0, std::numeric_limits<double>::max())) sun = 0.0;
         if (sun > 0 && f.volume) sun *= f.volume->sunTransmittance(offset);
-        const Vec3d sky = lerp(s.sky.horizonColor, s.sky.zenithColor, 0.5 + 0.5 * hit.normal[1]) * s.sky.intensity;
-        const Vec3d light = sunRadiance * (sun / M_PI) + sky * (0.5 + 0.5 * hit.normal[1]);
+        const Vec3d light = sunRadiance * (sun / M_PI) + skyLightOnSurface(s.sky, hit.normal);
         return Vec3d(albedo[0] * light[0], albedo[1] * light[1], albedo[2] * light[2]);
     };
 

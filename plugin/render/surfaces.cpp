@@ -13,19 +13,6 @@ namespace vfield {
 
 namespace {
 
-/// Per-vertex normals: area-weighted sums of the faces around each point.
-std::vector<Vec3f> vertexNormals(const TriangleMesh& mesh)
-{
-    std::vector<Vec3d> sum(mesh.points.size(), Vec3d(0.0));
-    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
-        const Vec3d area = mesh.areaVector(t);
-        for (int corner = 0; corner < 3; ++corner) sum[mesh.triangles[t][corner]] += area;
-    }
-    std::vector<Vec3f> normals(sum.size());
-    for (std::size_t i = 0; i < sum.size(); ++i) normals[i] = Vec3f(sum[i].unitSafe());
-    return normals;
-}
-
 /// One Embree scene holding one mesh, with the normals to shade it.
 struct MeshBvh {
     RTCScene scene = nullptr;

@@ -31,6 +31,10 @@ struct TriangleMesh {
     void transform(const Mat4d& worldFromObject);
 };
 
+/// Per-point unit normals for smooth shading: the area-weighted sum of the
+/// normals of the triangles around each point (zero for unused points).
+std::vector<Vec3f> vertexNormals(const TriangleMesh& mesh);
+
 /// Removes triangles of zero area (repeated or collinear corners) and returns
 /// how many were removed. Unused points are kept.
 std::size_t removeDegenerateTriangles(TriangleMesh& mesh);

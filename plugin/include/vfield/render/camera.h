@@ -16,6 +16,14 @@ public:
     static Camera looking(const CameraSettings& settings, const Vec3d& position, const Vec3d& target, int width, int height);
 
     const Vec3d& position() const { return mPosition; }
+    /// The camera's frame, unit vectors: forward, right and up (right = forward x up).
+    const Vec3d& forward() const { return mForward; }
+    const Vec3d& right() const { return mRight; }
+    const Vec3d& up() const { return mUp; }
+    /// tan(vertical field of view / 2) and width / height: the image plane at
+    /// distance 1 spans +-tanHalfFov() * aspect() across and +-tanHalfFov() up.
+    double tanHalfFov() const { return mTanHalf; }
+    double aspect() const { return mAspect; }
     /// Unit direction through the image point (x right, y down, in pixels).
     Vec3d direction(double x, double y) const;
 

@@ -48,6 +48,10 @@ public:
     /// Transmittance of the cloud from p towards the sun (1 where no cloud is in the way).
     double sunTransmittance(const Vec3d& p) const;
 
+    /// Density x the sky's transmittance down to each voxel: where the cloud
+    /// scatters the sky's light, and how much (same voxels as the density).
+    openvdb::FloatGrid::Ptr skyLitDensity() const;
+
     /// Where the ray (dir unit) is inside the cloud's box; false if it misses.
     bool clip(const Vec3d& origin, const Vec3d& dir, double& tMin, double& tMax) const;
 

@@ -20,4 +20,8 @@ OIIO::ImageBuf toLinear(const RenderImage& image);
 /// Writes by extension (.png or .exr). Throws FileError.
 void writeFrameImage(const RenderImage& image, const std::string& path);
 
+/// Writes the two image files next to each other (left, then right, tops
+/// aligned) into one image at path. Throws FileError.
+void writeSideBySide(const std::string& left, const std::string& right, const std::string& path);
+
 } // namespace vfield

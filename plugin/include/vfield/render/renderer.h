@@ -10,6 +10,7 @@
 
 #include <vfield/render/camera.h>
 #include <vfield/render/cloud_volume.h>
+#include <vfield/render/materials.h>
 #include <vfield/render/surfaces.h>
 
 #include <map>
@@ -37,8 +38,5 @@ struct FrameToRender {
 };
 
 RenderImage renderFrame(const FrameToRender& frame);
-
-/// The sky's radiance in a direction (gradient from horizon to zenith, and the sun's glow).
-Vec3d skyRadiance(const RenderSettings& settings, const Vec3d& dir);
 
 } // namespace vfield

@@ -12,12 +12,6 @@
 
 namespace vfield {
 
-/// How a surface is coloured.
-enum class SurfaceMaterial {
-    Terrain, ///< grass, rock and snow by height and slope
-    Painted  ///< one base colour
-};
-
 struct SurfaceHit {
     double distance = 0.0; ///< along the (unit) ray
     Vec3d position;        ///< world space

@@ -1,9 +1,17 @@
 #pragma once
 /// @file render_run.h
 /// Scene + a simulation folder -> OUT/frame.####.png (and/or .exr), one per
-/// frame, through vfield's Embree back-end. Reads density.####.vdb and
-/// tracks.json from the simulation; writes every image atomically; frames
-/// whose images exist are skipped unless forced.
+/// frame, through vfield's Embree back-end, POV-Ray, or both. Reads
+/// density.####.vdb and tracks.json from the simulation; writes every image
+/// atomically; frames whose images exist are skipped unless forced.
+///
+/// Outputs per back-end:
+///   embree: OUT/frame.####.png (and/or .exr)
+///   povray: OUT/frame.####.png; its scene files are written to
+///           OUT/povray-scene/ (meshes.inc, frame.####.pov, density.####.df3)
+///           and removed after each frame unless kept
+///   both:   OUT/embree/frame.####.*, OUT/povray/frame.####.png and
+///           OUT/frame.####.png, the two side by side (Embree on the left)
 
 #include <vfield/scene/scene.h>
 
@@ -14,18 +22,27 @@
 
 namespace vfield {
 
+enum class RenderBackend { Embree, Povray, Both };
+
 struct RenderRunOptions {
+    RenderBackend backend = RenderBackend::Embree;
     std::optional<int> firstFrame, lastFrame; ///< default: the scene's range
     std::optional<int> width, height;         ///< default: the scene's resolution
     std::optional<int> samplesPerPixel;       ///< default: the scene's
     std::vector<std::string> formats{"png"};  ///< "png" and/or "exr"
     bool force = false;                       ///< re-render frames whose images exist
+    bool keepScene = false;                   ///< keep POV-Ray's scene files in OUT/povray-scene/
+    /// POV-Ray's render threads; its media sampling is reproducible with 1
+    /// only. Default: as many as vfield's (tbb's task arena).
+    std::optional<int> povrayThreads;
     std::function<void(int frame, int done, int total, double seconds)> progress;
 };
 
 struct RenderRunSummary {
     int rendered = 0, skipped = 0;
-    double secondsPerFrame = 0.0; ///< mean over rendered frames
+    double secondsPerFrame = 0.0;        ///< mean over rendered frames, everything included
+    double embreeSecondsPerFrame = 0.0;  ///< mean time in vfield's renderer (0 if unused)
+    double povraySecondsPerFrame = 0.0;  ///< mean time exporting and running POV-Ray (0 if unused)
 };
 
 RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDir, const std::string& outputDir,

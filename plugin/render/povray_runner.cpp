@@ -1,0 +1,117 @@
+#include <vfield/render/povray_runner.h>
+
+#include <vfield/core/error.h>
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace vfield {
+
+namespace {
+
+const char* const kProgram = "povray";
+
+/// The last few non-empty lines of POV-Ray's log, joined into one line.
+std::string logTail(const std::string& logPath, std::size_t lines = 4)
+{
+    std::ifstream in(logPath);
+    std::deque<std::string> tail;
+    for (std::string line; std::getline(in, line);) {
+        line.erase(line.find_last_not_of(" \t\r") + 1);
+        if (line.empty()) continue;
+        tail.push_back(line);
+        if (tail.size() > lines) tail.pop_front();
+    }
+    std::string joined;
+    for (const std::string& line : tail) joined += (joined.empty() ? "" : " | ") + line;
+    return joined.empty() ? "(no output)" : joined;
+}
+
+} // namespace
+
+bool povrayAvailable()
+{
+    const char* path = std::getenv("PATH");
+    std::istringstream folders(path ? path : "");
+    for (std::string folder; std::getline(folders, folder, ':');) {
+        const fs::path candidate = fs::path(folder.empty() ? "." : folder) / kProgram;
+        if (::access(candidate.c_str(), X_OK) == 0) return true;
+    }
+    return false;
+}
+
+void runPovray(const std::string& folder, const std::string& sceneFile, const std::string& imageFile,
+               const PovrayOptions& options)
+{
+    if (!povrayAvailable())
+        throw Error("POV-Ray (the povray program) is not on PATH; install the Debian package 'povray' (tools/setup does)");
+    if (options.width < 1 || options.height < 1 || options.samplesPerPixel < 1 || options.threads < 1)
+        throw ValueError("POV-Ray needs a positive size, sample count and thread count");
+
+    std::vector<std::string> args = {kProgram,
+                                     "+I" + sceneFile,
+                                     "+O" + imageFile,
+                                     "+W" + std::to_string(options.width),
+                                     "+H" + std::to_string(options.height),
+                                     "+WT" + std::to_string(options.threads),
+                                     "-D",  // no display
+                                     "-V",  // no progress lines
+                                     "-P",  // no pause
+                                     "+FN", // PNG
+                                     "File_Gamma=sRGB"};
+    const int grid = std::clamp(int(std::lround(std::sqrt(double(options.samplesPerPixel)))), 1, 9);
+    if (grid > 1) {
+        // Threshold 0 supersamples every pixel on an unjittered n x n grid.
+        for (const std::string& a : {std::string("+A0.0"), std::string("+AM1"), "+R" + std::to_string(grid), std::string("-J")})
+            args.push_back(a);
+    } else {
+        args.push_back("-A");
+    }
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+
+    const std::string logPath = (fs::path(folder) / (imageFile + ".log")).string();
+    const pid_t child = ::fork();
+    if (child < 0) throw Error(std::string("cannot start POV-Ray: ") + std::strerror(errno));
+    if (child == 0) {
+        // In the child only async-signal-safe calls until exec.
+        const int log = ::open(logPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        const int devNull = ::open("/dev/null", O_RDONLY);
+        if (log < 0 || devNull < 0 || ::chdir(folder.c_str()) != 0) ::_exit(126);
+        ::dup2(devNull, 0);
+        ::dup2(log, 1);
+        ::dup2(log, 2);
+        ::execvp(kProgram, argv.data());
+        ::_exit(127);
+    }
+    int status = 0;
+    while (::waitpid(child, &status, 0) < 0)
+        if (errno != EINTR) throw Error(std::string("lost POV-Ray: ") + std::strerror(errno));
+    const std::string scenePath = (fs::path(folder) / sceneFile).string();
+    if (WIFSIGNALED(status))
+        throw FileError(scenePath, "POV-Ray was killed by signal " + std::to_string(WTERMSIG(status)) + ": " + logTail(logPath) +
+                                       " (log: " + logPath + ")");
+    const int code = WEXITSTATUS(status);
+    if (code == 126) throw FileError(folder, "cannot run POV-Ray here (its log or the folder cannot be opened)");
+    if (code == 127) throw Error("POV-Ray (povray) could not be started; install the Debian package 'povray'");
+    if (code != 0 || !fs::exists(fs::path(folder) / imageFile))
+        throw FileError(scenePath, "POV-Ray failed (exit status " + std::to_string(code) + "): " + logTail(logPath) +
+                                       " (log: " + logPath + ")");
+}
+
+} // namespace vfield

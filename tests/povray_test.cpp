@@ -1,0 +1,325 @@
+// The POV-Ray back-end: df3 export, the written scene text, and POV-Ray's
+// picture against vfield's own.
+
+#include "test_meshes.h"
+
+#include <vfield/core/atomic_file.h>
+#include <vfield/core/error.h>
+#include <vfield/mesh/procedural.h>
+#include <vfield/render/df3.h>
+#include <vfield/render/frame_image.h>
+#include <vfield/render/povray_runner.h>
+#include <vfield/render/povray_scene.h>
+#include <vfield/render/renderer.h>
+
+#include <catch2/catch.hpp>
+
+#include <OpenImageIO/imagebuf.h>
+#include <openvdb/tools/Interpolation.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+using namespace vfield;
+namespace fs = std::filesystem;
+
+namespace {
+
+/// A lumpy cloud: random densities in a ball of radius 6 voxels, at voxel size 0.5.
+openvdb::FloatGrid::Ptr lumpyCloud()
+{
+    openvdb::initialize();
+    openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(0.0f);
+    grid->setTransform(openvdb::math::Transform::createLinearTransform(0.5));
+    grid->transform().postTranslate(Vec3d(3.0, 4.0, -2.0));
+    std::mt19937 random(5);
+    std::uniform_real_distribution<float> value(0.0f, 3.7f);
+    auto accessor = grid->getAccessor();
+    for (int z = -6; z <= 6; ++z)
+        for (int y = -6; y <= 6; ++y)
+            for (int x = -6; x <= 6; ++x)
+                if (x * x + y * y + z * z <= 36) accessor.setValue(openvdb::Coord(x, y, z), value(random));
+    return grid;
+}
+
+std::string readText(const std::string& path)
+{
+    std::ifstream in(path);
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+/// Compares text with a checked-in file; on a difference, writes the new text
+/// beside the build so a reviewer can diff it and copy it over on purpose.
+void checkMatchesExpected(const std::string& text, const std::string& expectedName)
+{
+    const std::string expectedPath = test::dataPath("povray/" + expectedName);
+    const std::string actualPath = fs::absolute(fs::path("povray-actual") / expectedName).string();
+    if (text == readText(expectedPath)) return;
+    writeTextAtomically(actualPath, text);
+    FAIL("the exported text differs from " << expectedPath << "; the new text is in " << actualPath);
+}
+
+/// The small fixed scene: a ground slab and a pillar (static), a box in flight
+/// (dynamic) and a 2 x 2 x 1 voxel cloud.
+struct FixedScene {
+    TriangleMesh ground = makeBox({{-10, -1, -10}, {10, 0, 10}});
+    TriangleMesh pillar = makeBox({{-1, 0, -1}, {1, 4, 1}});
+    TriangleMesh flyer = makeBox({{-0.5, -0.25, -0.5}, {0.5, 0.25, 0.5}});
+    RenderSettings settings;
+    openvdb::FloatGrid::Ptr cloud;
+
+    FixedScene()
+    {
+        settings.camera.position = Vec3d(0, 6, 25);
+        settings.camera.lookAt = Vec3d(0, 2, 0);
+        openvdb::initialize();
+        cloud = openvdb::FloatGrid::create(0.0f);
+        cloud->setTransform(openvdb::math::Transform::createLinearTransform(1.0));
+        auto accessor = cloud->getAccessor();
+        accessor.setValue(openvdb::Coord(2, 5, 0), 1.0f);
+        accessor.setValue(openvdb::Coord(3, 5, 0), 0.5f);
+        accessor.setValue(openvdb::Coord(2, 6, 0), 0.25f);
+        accessor.setValue(openvdb::Coord(3, 6, 0), 2.0f);
+    }
+
+    std::string meshesText() const
+    {
+        std::vector<PovrayMesh> meshes(3);
+        meshes[0] = {0, &ground, SurfaceMaterial::Terrain, Transform{}};
+        meshes[1] = {1, &pillar, SurfaceMaterial::Painted, Transform{}};
+        meshes[2] = {2, &flyer, SurfaceMaterial::Painted, std::nullopt};
+        return povrayMeshesText(meshes, -1.0, 4.0);
+    }
+
+    std::string frameText(const std::string& folder) const
+    {
+        PovrayFrame frame;
+        frame.settings = &settings;
+        frame.camera = Camera::fromSettings(settings.camera, 64, 36);
+        frame.frame = 12;
+        frame.meshInclude = "meshes.inc";
+        frame.staticObjects = {0, 1};
+        Transform pose;
+        pose.translation = Vec3d(-4, 3, 2);
+        pose.rotation = Transform::rotationFromDegrees(Vec3d(10, 30, 0));
+        pose.scale = 2.0;
+        frame.dynamicPoses[2] = pose;
+        PovrayCloud povCloud;
+        povCloud.df3File = "density.0012.df3";
+        povCloud.placement = writeDf3(*cloud, folder + "/density.0012.df3");
+        povCloud.skyLitDf3File = "sky_lit.0012.df3";
+        povCloud.skyLitPlacement = writeDf3(*cloud, folder + "/sky_lit.0012.df3");
+        povCloud.volumeStep = 0.25;
+        frame.cloud = povCloud;
+        return povrayFrameText(frame);
+    }
+};
+
+/// Sets PATH for the scope of the object.
+class ScopedPath {
+public:
+    explicit ScopedPath(const std::string& path) : mOld(std::getenv("PATH") ? std::getenv("PATH") : "")
+    {
+        ::setenv("PATH", path.c_str(), 1);
+    }
+    ~ScopedPath() { ::setenv("PATH", mOld.c_str(), 1); }
+
+private:
+    std::string mOld;
+};
+
+} // namespace
+
+TEST_CASE("povray: a df3 export reads back as the grid within 16-bit quantization", "[povray]")
+{
+    const openvdb::FloatGrid::Ptr grid = lumpyCloud();
+    const std::string dir = test::scratchDir("df3");
+    const Df3Placement placement = writeDf3(*grid, dir + "/cloud.df3");
+    const Df3Volume volume = readDf3(dir + "/cloud.df3");
+
+    // The active box (13 voxels a side) and one empty cell on each side.
+    REQUIRE(volume.nx == 15);
+    REQUIRE(volume.ny == 15);
+    REQUIRE(volume.nz == 15);
+    CHECK(placement.cellSize == 0.5);
+    CHECK(placement.worldBounds.min().eq(Vec3d(3.0 - 7.5 * 0.5, 4.0 - 7.5 * 0.5, -2.0 - 7.5 * 0.5)));
+    CHECK(placement.worldBounds.max().eq(Vec3d(3.0 + 7.5 * 0.5, 4.0 + 7.5 * 0.5, -2.0 + 7.5 * 0.5)));
+
+    auto accessor = grid->getConstAccessor();
+    double worst = 0.0;
+    for (int z = 0; z < volume.nz; ++z)
+        for (int y = 0; y < volume.ny; ++y)
+            for (int x = 0; x < volume.nx; ++x) {
+                const double read = volume.at(x, y, z) / 65535.0 * placement.densityScale;
+                worst = std::max(worst, std::abs(read - accessor.getValue(openvdb::Coord(x - 7, y - 7, z - 7))));
+            }
+    const double step = placement.densityScale / 65535.0;
+    WARN("df3 round trip: largest error " << worst << " = " << worst / step << " of a 16-bit step (density scale "
+                                          << placement.densityScale << ")");
+    CHECK(worst <= 0.5 * step * (1.0 + 1e-6));
+}
+
+TEST_CASE("povray: a df3 of a grid too large for maxResolution samples it on coarser cells", "[povray]")
+{
+    const openvdb::FloatGrid::Ptr grid = lumpyCloud();
+    const std::string dir = test::scratchDir("df3-coarse");
+    const Df3Placement placement = writeDf3(*grid, dir + "/cloud.df3", 8);
+    const Df3Volume volume = readDf3(dir + "/cloud.df3");
+    CHECK(volume.nx == 8);                  // 15 cells at a factor of 2
+    CHECK(placement.cellSize == 1.0);
+    CHECK(placement.worldBounds.min().eq(Vec3d(3.0 - 7.5 * 0.5, 4.0 - 7.5 * 0.5, -2.0 - 7.5 * 0.5)));
+    const openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> sampler(*grid);
+    for (int x = 0; x < volume.nx; ++x) {
+        const Vec3d centre = placement.worldBounds.min() + Vec3d(x + 0.5, 3.5, 4.5) * placement.cellSize;
+        CHECK(volume.at(x, 3, 4) / 65535.0 * placement.densityScale ==
+              Approx(sampler.wsSample(centre)).margin(placement.densityScale / 65535.0));
+    }
+}
+
+TEST_CASE("povray: a broken df3 file is an error naming it", "[povray]")
+{
+    const std::string dir = test::scratchDir("df3-bad");
+    writeTextAtomically(dir + "/short.df3", std::string("\x00\x02\x00\x02\x00\x02\x01", 7));
+    CHECK_THROWS_WITH(readDf3(dir + "/short.df3"), dir + "/short.df3: holds 1 bytes of samples for 2x2x2 cells");
+    CHECK_THROWS_AS(readDf3(dir + "/missing.df3"), FileError);
+}
+
+TEST_CASE("povray: the exported scene text equals the checked-in files", "[povray]")
+{
+    const FixedScene scene;
+    const std::string dir = test::scratchDir("povray-text");
+    checkMatchesExpected(scene.meshesText(), "meshes.inc");
+    checkMatchesExpected(scene.frameText(dir), "frame.0012.pov");
+}
+
+TEST_CASE("povray: POV-Ray renders the exported scene", "[povray]")
+{
+    if (!povrayAvailable()) {
+        WARN("povray is not installed: only the exported text was checked");
+        return;
+    }
+    const FixedScene scene;
+    const std::string dir = test::scratchDir("povray-run");
+    writeTextAtomically(dir + "/meshes.inc", scene.meshesText());
+    writeTextAtomically(dir + "/frame.0012.pov", scene.frameText(dir));
+    PovrayOptions options;
+    options.width = 64;
+    options.height = 36;
+    options.samplesPerPixel = 1;
+    runPovray(dir, "frame.0012.pov", "render.png", options);
+    OIIO::ImageBuf image(dir + "/render.png");
+    REQUIRE(image.read(0, 0, true, OIIO::TypeDesc::FLOAT));
+    CHECK(image.spec().width == 64);
+    CHECK(image.spec().height == 36);
+    // Blue sky at the top, green ground in front of the pillar.
+    float top[3], ground[3];
+    image.getpixel(32, 1, top, 3);
+    image.getpixel(20, 25, ground, 3);
+    CHECK(top[2] > top[0]);
+    CHECK(ground[1] > ground[2]);
+    CHECK(ground[1] > ground[0]);
+}
+
+TEST_CASE("povray: terrain against the sky agrees with vfield's renderer (IoU >= 0.98)", "[povray]")
+{
+    if (!povrayAvailable()) {
+        WARN("povray is not installed: POV-Ray's terrain mask was not checked");
+        return;
+    }
+    TerrainOptions terrain;
+    terrain.sizeX = terrain.sizeZ = 100.0;
+    terrain.cellsX = terrain.cellsZ = 64;
+    terrain.amplitude = 25.0;
+    const TriangleMesh mesh = makeTerrain(terrain);
+
+    // A pure blue sky: sunlit terrain has red in it, and the sides the sun
+    // misses get at most half the sky's blue, so anything not pure blue is terrain.
+    RenderSettings settings;
+    settings.sky.zenithColor = settings.sky.horizonColor = Vec3d(0, 0, 1);
+    settings.sun.direction = Vec3d(0.05, 1.0, 0.02);
+    settings.camera.position = Vec3d(-80, 30, 60);
+    settings.camera.lookAt = Vec3d(0, 12, 0);
+    const int width = 160, height = 90;
+
+    SurfaceScene surfaces;
+    surfaces.addStatic(0, mesh, Transform{});
+    surfaces.commit();
+    FrameToRender embree;
+    embree.settings = &settings;
+    embree.surfaces = &surfaces;
+    embree.materials[0] = SurfaceMaterial::Terrain;
+    embree.width = width;
+    embree.height = height;
+    embree.samplesPerPixel = 1;
+    embree.camera = Camera::fromSettings(settings.camera, width, height);
+    embree.terrainLow = mesh.bounds().min()[1];
+    embree.terrainHigh = mesh.bounds().max()[1];
+    const std::string dir = test::scratchDir("povray-mask");
+    writeFrameImage(renderFrame(embree), dir + "/vfield.png");
+    writeTextAtomically(dir + "/meshes.inc",
+                        povrayMeshesText({{0, &mesh, SurfaceMaterial::Terrain, Transform{}}}, mesh.bounds().min()[1],
+                                         mesh.bounds().max()[1]));
+    PovrayFrame frame;
+    frame.settings = &settings;
+    frame.camera = embree.camera;
+    frame.meshInclude = "meshes.inc";
+    frame.staticObjects = {0};
+    writeTextAtomically(dir + "/terrain.pov", povrayFrameText(frame));
+    PovrayOptions options;
+    options.width = width;
+    options.height = height;
+    options.samplesPerPixel = 1;
+    runPovray(dir, "terrain.pov", "terrain.png", options);
+    OIIO::ImageBuf ours(dir + "/vfield.png"), theirs(dir + "/terrain.png");
+    REQUIRE(ours.read(0, 0, true, OIIO::TypeDesc::FLOAT));
+    REQUIRE(theirs.read(0, 0, true, OIIO::TypeDesc::FLOAT));
+    const auto isTerrain = [](const OIIO::ImageBuf& image, int x, int y) {
+        float rgb[3];
+        image.getpixel(x, y, rgb, 3);
+        return rgb[0] + rgb[1] + (1.0f - rgb[2]) > 0.1f;
+    };
+
+    int both = 0, either = 0, skyInOurs = 0;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const bool povTerrain = isTerrain(theirs, x, y), ourTerrain = isTerrain(ours, x, y);
+            both += povTerrain && ourTerrain;
+            either += povTerrain || ourTerrain;
+            skyInOurs += !ourTerrain;
+        }
+    const double iou = double(both) / double(either);
+    WARN("terrain masks: IoU " << iou << " (" << either - both << " of " << width * height << " pixels differ)");
+    REQUIRE(skyInOurs > width * height / 10); // the frame shows the silhouette against the sky
+    CHECK(iou >= 0.98);
+}
+
+TEST_CASE("povray: a missing povray names the package; a failing scene carries its log", "[povray]")
+{
+    const std::string dir = test::scratchDir("povray-errors");
+    writeTextAtomically(dir + "/broken.pov", "#version 3.7;\nbox { <0, 0, 0>, <1, 1, 1>\n");
+    {
+        const ScopedPath nowhere(dir + "/no-such-folder");
+        CHECK_FALSE(povrayAvailable());
+        CHECK_THROWS_WITH(runPovray(dir, "broken.pov", "out.png", PovrayOptions{}),
+                          "POV-Ray (the povray program) is not on PATH; install the Debian package 'povray' "
+                          "(tools/setup does)");
+    }
+    if (!povrayAvailable()) return;
+    try {
+        runPovray(dir, "broken.pov", "out.png", PovrayOptions{});
+        FAIL("a broken scene rendered");
+    } catch (const FileError& e) {
+        const std::string message = e.what();
+        CHECK(message.rfind(dir + "/broken.pov: POV-Ray failed (exit status 1): ", 0) == 0);
+        CHECK(message.find("Parse Error") != std::string::npos);
+        CHECK(message.find("(log: " + dir + "/out.png.log)") != std::string::npos);
+        CHECK(message.find('\n') == std::string::npos);
+    }
+    CHECK_FALSE(fs::exists(dir + "/out.png"));
+}
