@@ -106,13 +106,32 @@ Scene parseScene(const std::string& text, const std::string& file)
     return scene;
 }
 
-Scene loadScene(const std::string& path)
+Scene loadScene(const std::string& path, const std::vector<SceneOverride>& overrides)
 {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw FileError(path, std::filesystem::exists(path) ? "cannot open for reading" : "no such file");
     std::stringstream text;
     text << in.rdbuf();
-    return parseScene(text.str(), path);
+    if (overrides.empty()) return parseScene(text.str(), path);
+
+    parseJson(text.str(), path); // syntax errors name the file's line and column
+    nlohmann::json json = nlohmann::json::parse(text.str());
+    for (const SceneOverride& o : overrides) {
+        const std::string what = "override " + o.pointer + "=" + o.value + ": ";
+        if (o.pointer.empty() || o.pointer[0] != '/') throw ValueError(what + "a JSON pointer starts with '/'");
+        nlohmann::json value;
+        try {
+            value = nlohmann::json::parse(o.value);
+        } catch (const nlohmann::json::exception&) {
+            throw ValueError(what + "the value is not JSON (a string needs its quotes)");
+        }
+        try {
+            json[nlohmann::json::json_pointer(o.pointer)] = value;
+        } catch (const nlohmann::json::exception& e) {
+            throw ValueError(what + "no such place in the scene (" + e.what() + ")");
+        }
+    }
+    return parseScene(json.dump(2), path);
 }
 
 } // namespace vfield

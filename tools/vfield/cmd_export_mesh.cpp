@@ -1,6 +1,7 @@
 // vfield export-mesh SCENE --object NAME -o mesh.obj: any object's mesh for other tools.
 
 #include "command.h"
+#include "scene_cli_options.h"
 
 #include <vfield/core/error.h>
 #include <vfield/scene/scene.h>
@@ -44,14 +45,15 @@ Transform poseFromTracks(const std::string& simDir, const std::string& object, i
 Runner registerExportMesh(CLI::App& app, const GlobalOptions& global)
 {
     struct Options {
-        std::string scene, object, output, sim;
+        SceneCliOptions scene;
+        std::string object, output, sim;
         int frame = 0;
     };
     auto o = std::make_shared<Options>();
     CLI::App* command = app.add_subcommand(
         "export-mesh", "Write a scene object's mesh as OBJ: static objects in world space; dynamic ones in object space "
                        "(nose +x, up +y, pivot at the origin) unless --frame places them from a simulation's tracks");
-    command->add_option("scene", o->scene, "Scene file")->required();
+    addSceneOptions(*command, o->scene);
     command->add_option("--object", o->object, "Object name")->required();
     command->add_option("--frame", o->frame, "Place a dynamic object as it is at this frame (needs --sim)");
     command->add_option("--sim", o->sim, "Simulation folder whose tracks.json places dynamic objects");
@@ -60,7 +62,7 @@ Runner registerExportMesh(CLI::App& app, const GlobalOptions& global)
     return [o, command, &global] {
         const Scene scene = loadScene(o->scene);
         const ObjectSpec* spec = scene.findObject(o->object);
-        if (!spec) throw FileError(o->scene, "no object named \"" + o->object + "\"");
+        if (!spec) throw FileError(o->scene.path, "no object named \"" + o->object + "\"");
         TriangleMesh mesh = makeMesh(spec->mesh);
         if (!spec->isDynamic) {
             mesh.transform(spec->transform.matrix());

@@ -1,6 +1,7 @@
 // vfield render SCENE --sim DIR -o OUT: image sequences of a simulated scene.
 
 #include "command.h"
+#include "scene_cli_options.h"
 #include "progress.h"
 
 #include <vfield/core/error.h>
@@ -107,12 +108,13 @@ void renderWithProgress(const Scene& scene, const std::string& simDir, const std
 Runner registerRender(CLI::App& app, const GlobalOptions& global)
 {
     struct Options {
-        std::string scene, sim, output;
+        SceneCliOptions scene;
+        std::string sim, output;
         RenderCliOptions render;
     };
     auto o = std::make_shared<Options>();
     CLI::App* command = app.add_subcommand("render", "Render a simulated scene to OUT/frame.####.png (or .exr)");
-    command->add_option("scene", o->scene, "Scene file")->required();
+    addSceneOptions(*command, o->scene);
     command->add_option("--sim", o->sim, "Simulation folder (from vfield simulate)")->required();
     command->add_option("-o,--output", o->output, "Output folder")->required();
     addRenderOptions(*command, o->render);
@@ -126,13 +128,14 @@ Runner registerRender(CLI::App& app, const GlobalOptions& global)
 Runner registerRun(CLI::App& app, const GlobalOptions& global)
 {
     struct Options {
-        std::string scene, output;
+        SceneCliOptions scene;
+        std::string output;
         RenderCliOptions render;
     };
     auto o = std::make_shared<Options>();
     CLI::App* command = app.add_subcommand(
         "run", "Simulate and render a scene: OUT/sim/ (volumes, particles, tracks, stats) and OUT/frame.####.png");
-    command->add_option("scene", o->scene, "Scene file")->required();
+    addSceneOptions(*command, o->scene);
     command->add_option("-o,--output", o->output, "Output folder")->required();
     addRenderOptions(*command, o->render);
 

@@ -2,6 +2,7 @@
 // particles per frame, with tracks and statistics.
 
 #include "command.h"
+#include "scene_cli_options.h"
 #include "progress.h"
 
 #include <vfield/scene/simulation_run.h>
@@ -28,12 +29,13 @@ std::string describe(const ClearanceStats& c)
 Runner registerSimulate(CLI::App& app, const GlobalOptions& global)
 {
     struct Options {
-        std::string scene, output, frames;
+        SceneCliOptions scene;
+        std::string output, frames;
         int threads = 0;
     };
     auto o = std::make_shared<Options>();
     CLI::App* command = app.add_subcommand("simulate", "Animate a scene and write OpenVDB volumes and particles per frame");
-    command->add_option("scene", o->scene, "Scene file (JSON, see scenes/README.md)")->required();
+    addSceneOptions(*command, o->scene);
     command->add_option("-o,--output", o->output, "Output folder (resumes a run of the same scene found there)")->required();
     command->add_option("--frames", o->frames, "Frames to write, A-B or A [default: the scene's range]")
         ->check(frameRangeValidator());

@@ -27,6 +27,16 @@ Runner registerSimulate(CLI::App& app, const GlobalOptions& global);
 Runner registerExportMesh(CLI::App& app, const GlobalOptions& global);
 Runner registerRender(CLI::App& app, const GlobalOptions& global);
 Runner registerRun(CLI::App& app, const GlobalOptions& global);
+Runner registerCompare(CLI::App& app, const GlobalOptions& global);
+
+/// Thrown by a runner to end with an exit status other than 0 (success) and 1
+/// (an exception, its message reported): `vfield compare` exits 1 when the
+/// inputs differ and 2 on errors, as idiff does. A non-empty message is
+/// reported as errors are.
+struct CommandExit {
+    int status = 1;
+    std::string message;
+};
 
 /// A log line on stderr, unless --quiet.
 void log(const GlobalOptions& global, const std::string& line);

@@ -50,7 +50,7 @@ int main(int argc, char** argv)
         {"bake-field", registerBakeField(app, global)}, {"field-slice", registerFieldSlice(app, global)},
         {"info", registerInfo(app, global)},             {"simulate", registerSimulate(app, global)},
         {"export-mesh", registerExportMesh(app, global)}, {"render", registerRender(app, global)},
-        {"run", registerRun(app, global)},
+        {"run", registerRun(app, global)},               {"compare", registerCompare(app, global)},
     };
 
     try {
@@ -67,6 +67,9 @@ int main(int argc, char** argv)
     const CLI::App* command = app.get_subcommands().front();
     try {
         runners.at(command->get_name())();
+    } catch (const CommandExit& e) {
+        if (!e.message.empty()) std::cerr << "vfield " << command->get_name() << ": " << oneLine(e.message) << '\n';
+        return e.status;
     } catch (const std::exception& e) {
         std::cerr << "vfield " << command->get_name() << ": " << oneLine(e.what()) << '\n';
         return 1;

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace vfield {
 
@@ -25,10 +26,18 @@ struct Scene {
     const ObjectSpec* findObject(const std::string& name) const;
 };
 
+/// One change to a scene file's JSON before it is read, as Houdini's and
+/// Blender's command lines allow: the value (JSON text) at a JSON pointer,
+/// e.g. {"/clouds/0/count", "5000"} or {"/render/resolution", "[320, 180]"}.
+struct SceneOverride {
+    std::string pointer;
+    std::string value;
+};
+
 /// Reads and checks a scene file. Errors name the file and the JSON path (or
 /// line and column for syntax errors); unknown keys are errors; paths inside
 /// resolve against the scene file's folder; absurd sizes are refused here.
-Scene loadScene(const std::string& path);
+Scene loadScene(const std::string& path, const std::vector<SceneOverride>& overrides = {});
 /// The same from text (file names the source in messages and anchors paths).
 Scene parseScene(const std::string& text, const std::string& file);
 

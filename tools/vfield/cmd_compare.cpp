@@ -1,0 +1,98 @@
+// vfield compare A B: images as idiff compares them, or OpenVDB files voxel by voxel.
+
+#include "command.h"
+
+#include <vfield/core/error.h>
+#include <vfield/image/grid_compare.h>
+#include <vfield/image/image_compare.h>
+
+#include <cstdio>
+#include <iostream>
+
+namespace vfield::cli {
+
+namespace {
+
+bool isVdb(const std::string& path) { return path.size() > 4 && path.compare(path.size() - 4, 4, ".vdb") == 0; }
+
+/// Prints the statistics idiff prints; returns the exit status.
+int reportImages(const std::string& a, const std::string& b, const ImageCompareOptions& options)
+{
+    const ImageComparison c = compareImages(a, b, options);
+    std::printf("Comparing \"%s\" and \"%s\"\n", a.c_str(), b.c_str());
+    if (!c.sizeMismatch.empty()) {
+        std::printf("  sizes differ: %s\nFAILURE\n", c.sizeMismatch.c_str());
+        return 1;
+    }
+    std::printf("  Mean error = %.6g\n  RMS error = %.6g\n  Peak SNR = %.6g\n  Max error = %.6g @ (%d, %d, channel %d)\n",
+                c.meanError, c.rmsError, c.psnr, c.maxError, c.maxX, c.maxY, c.maxChannel);
+    std::printf("  %lld pixels (%.4g%%) over %g\n  %lld pixels (%.4g%%) over %g\n", c.pixelsOverWarn, c.percentOverWarn(),
+                options.warnThreshold, c.pixelsOverFail, c.percentOverFail(), options.failThreshold);
+    if (!options.diffPath.empty()) std::printf("  difference x %g written to %s\n", options.diffScale, options.diffPath.c_str());
+    std::printf("%s\n", c.verdict == CompareVerdict::Pass ? "PASS" : c.verdict == CompareVerdict::Warn ? "WARNING" : "FAILURE");
+    return c.verdict == CompareVerdict::Fail ? 1 : 0;
+}
+
+int reportGrids(const std::string& a, const std::string& b, double tolerance)
+{
+    const GridComparison c = compareGridFiles(a, b, tolerance);
+    std::printf("Comparing \"%s\" and \"%s\" (tolerance %g)\n", a.c_str(), b.c_str(), tolerance);
+    for (const GridDifference& g : c.grids) {
+        if (g.comparedByHash)
+            std::printf("  %s (%s): %s\n", g.name.c_str(), g.type.c_str(), g.differing ? "contents differ" : "identical contents");
+        else
+            std::printf("  %s (%s): %llu of %llu voxels differ, max difference %.6g\n", g.name.c_str(), g.type.c_str(),
+                        (unsigned long long)g.differing, (unsigned long long)g.voxels, g.maxDifference);
+    }
+    for (const std::string& name : c.onlyInA) std::printf("  %s: only in %s\n", name.c_str(), a.c_str());
+    for (const std::string& name : c.onlyInB) std::printf("  %s: only in %s\n", name.c_str(), b.c_str());
+    std::printf("%s\n", c.equal() ? "PASS" : "FAILURE");
+    return c.equal() ? 0 : 1;
+}
+
+} // namespace
+
+Runner registerCompare(CLI::App& app, const GlobalOptions&)
+{
+    struct Options {
+        std::string a, b;
+        ImageCompareOptions image;
+        double tolerance = 0.0;
+    };
+    auto o = std::make_shared<Options>();
+    CLI::App* command = app.add_subcommand(
+        "compare", "Compare two images as OIIO's idiff does, or two OpenVDB files voxel by voxel. Exit 0: pass (or "
+                   "warning), 1: fail, 2: error");
+    command->add_option("a", o->a, "First image or .vdb file")->required();
+    command->add_option("b", o->b, "Second image or .vdb file")->required();
+    command->add_option("--fail", o->image.failThreshold, "Images: a pixel fails when a channel differs by more")
+        ->capture_default_str();
+    command->add_option("--fail-percent", o->image.failPercent, "Images: % of pixels allowed to fail")
+        ->check(CLI::Range(0.0, 100.0))
+        ->capture_default_str();
+    command->add_option("--hard-fail", o->image.hardFail, "Images: fail if any channel differs by more [default: off]");
+    command->add_option("--warn", o->image.warnThreshold, "Images: a pixel warns when a channel differs by more")
+        ->capture_default_str();
+    command->add_option("--warn-percent", o->image.warnPercent, "Images: % of pixels allowed to warn")
+        ->check(CLI::Range(0.0, 100.0))
+        ->capture_default_str();
+    command->add_option("--diff", o->image.diffPath, "Images: write |A - B| x --diff-scale to this image");
+    command->add_option("--diff-scale", o->image.diffScale, "Images: scale of the difference image")->capture_default_str();
+    command->add_option("--tolerance", o->tolerance, "VDB files: largest difference of equal voxels")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+
+    return [o] {
+        int status = 0;
+        try {
+            if (isVdb(o->a) != isVdb(o->b)) throw Error("cannot compare an OpenVDB file with an image");
+            status = isVdb(o->a) ? reportGrids(o->a, o->b, o->tolerance) : reportImages(o->a, o->b, o->image);
+        } catch (const std::exception& e) {
+            std::fflush(stdout);
+            throw CommandExit{2, e.what()};
+        }
+        if (status != 0) throw CommandExit{status, ""};
+    };
+}
+
+} // namespace vfield::cli

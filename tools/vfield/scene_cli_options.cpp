@@ -1,0 +1,27 @@
+#include "scene_cli_options.h"
+
+namespace vfield::cli {
+
+void addSceneOptions(CLI::App& command, SceneCliOptions& options)
+{
+    command.add_option("scene", options.path, "Scene file (JSON, see scenes/README.md)")->required();
+    command
+        .add_option("--set", options.overrides,
+                    "Change a scene value before reading it: JSON pointer=JSON value, e.g. --set /clouds/0/count=5000 "
+                    "--set '/render/resolution=[320,180]' (repeatable)")
+        ->check([](const std::string& text) {
+            return text.find('=') == std::string::npos ? "expected POINTER=VALUE, got '" + text + "'" : std::string();
+        });
+}
+
+Scene loadScene(const SceneCliOptions& options)
+{
+    std::vector<SceneOverride> overrides;
+    for (const std::string& text : options.overrides) {
+        const std::size_t equals = text.find('=');
+        overrides.push_back({text.substr(0, equals), text.substr(equals + 1)});
+    }
+    return vfield::loadScene(options.path, overrides);
+}
+
+} // namespace vfield::cli

@@ -1,0 +1,25 @@
+#pragma once
+// The scene argument that simulate, render, run and export-mesh share, with
+// --set overrides of its values.
+
+#include "command.h"
+
+#include <vfield/scene/scene.h>
+
+#include <string>
+#include <vector>
+
+namespace vfield::cli {
+
+struct SceneCliOptions {
+    std::string path;
+    std::vector<std::string> overrides; ///< "POINTER=JSON", in order
+};
+
+/// Declares SCENE and --set.
+void addSceneOptions(CLI::App& command, SceneCliOptions& options);
+
+/// Loads the scene with its overrides applied.
+Scene loadScene(const SceneCliOptions& options);
+
+} // namespace vfield::cli
