@@ -1,0 +1,186 @@
+// What the raw libraries do on the same data, so that every stage is reported
+// as a ratio measured in one run:
+//  - raw Embree: a primary ray per pixel and a shadow ray per hit
+//    (rtcIntersect1 / rtcOccluded1 over TBB tiles) on the showcase terrain,
+//    against vfield's surface-only frame;
+//  - a raw OpenVDB trilinear sampler loop over the showcase's force grid and
+//    particles in spawn order, against vfield's advection;
+//  - POV-Ray on the same frame and settings as vfield's cloud frame.
+
+#include "bench_showcase.h"
+
+#include <vfield/render/df3.h>
+#include <vfield/render/povray_runner.h>
+#include <vfield/render/povray_scene.h>
+#include <vfield/core/atomic_file.h>
+
+#include <benchmark/benchmark.h>
+
+#include <embree3/rtcore.h>
+#include <openvdb/tools/Interpolation.h>
+#include <tbb/blocked_range.h>
+#include <tbb/blocked_range2d.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <filesystem>
+#include <limits>
+
+using namespace vfield;
+using namespace vfield::bench;
+
+namespace {
+
+/// The showcase terrain in one Embree scene, nothing else.
+struct RawEmbree {
+    RTCDevice device = rtcNewDevice(nullptr);
+    RTCScene scene = rtcNewScene(device);
+
+    explicit RawEmbree(const TriangleMesh& mesh)
+    {
+        RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mesh.points.data(), 0,
+                                   sizeof(Vec3f), mesh.points.size());
+        rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.triangles.data(), 0,
+                                   sizeof(Vec3ui), mesh.triangles.size());
+        rtcCommitGeometry(geometry);
+        rtcAttachGeometry(scene, geometry);
+        rtcReleaseGeometry(geometry);
+        rtcCommitScene(scene);
+    }
+    ~RawEmbree()
+    {
+        rtcReleaseScene(scene);
+        rtcReleaseDevice(device);
+    }
+};
+
+void BM_RawEmbreeRays(benchmark::State& state)
+{
+    ShowcaseFrame& s = showcase();
+    static RawEmbree raw(s.terrain);
+    const int width = int(state.range(0)), height = int(state.range(1));
+    const Camera camera = Camera::fromSettings(s.scene.render.camera, width, height);
+    const Vec3f toSun(s.scene.render.sun.direction.unitSafe());
+    std::vector<float> shade(std::size_t(width) * height);
+    for (auto _ : state) {
+        tbb::parallel_for(tbb::blocked_range2d<int>(0, height, 16, 0, width, 16), [&](const tbb::blocked_range2d<int>& r) {
+            RTCIntersectContext context;
+            rtcInitIntersectContext(&context);
+            for (int y = r.rows().begin(); y != r.rows().end(); ++y)
+                for (int x = r.cols().begin(); x != r.cols().end(); ++x) {
+                    const Vec3d dir = camera.direction(x + 0.5, y + 0.5);
+                    RTCRayHit hit{};
+                    hit.ray.org_x = float(camera.position()[0]);
+                    hit.ray.org_y = float(camera.position()[1]);
+                    hit.ray.org_z = float(camera.position()[2]);
+                    hit.ray.dir_x = float(dir[0]);
+                    hit.ray.dir_y = float(dir[1]);
+                    hit.ray.dir_z = float(dir[2]);
+                    hit.ray.tfar = std::numeric_limits<float>::infinity();
+                    hit.ray.mask = ~0u;
+                    hit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                    rtcIntersect1(raw.scene, &context, &hit);
+                    float value = 0.0f;
+                    if (hit.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
+                        RTCRay shadow{};
+                        shadow.org_x = hit.ray.org_x + hit.ray.dir_x * hit.ray.tfar * 0.999f;
+                        shadow.org_y = hit.ray.org_y + hit.ray.dir_y * hit.ray.tfar * 0.999f;
+                        shadow.org_z = hit.ray.org_z + hit.ray.dir_z * hit.ray.tfar * 0.999f;
+                        shadow.dir_x = toSun[0];
+                        shadow.dir_y = toSun[1];
+                        shadow.dir_z = toSun[2];
+                        shadow.tfar = std::numeric_limits<float>::infinity();
+                        shadow.mask = ~0u;
+                        rtcOccluded1(raw.scene, &context, &shadow);
+                        value = shadow.tfar < 0.0f ? 0.5f : 1.0f;
+                    }
+                    shade[std::size_t(y) * width + x] = value;
+                }
+        });
+        benchmark::DoNotOptimize(shade.data());
+    }
+    state.counters["primary_rays_per_s"] =
+        benchmark::Counter(double(width) * height, benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_RawEmbreeRays)
+    ->ArgNames({"w", "h"})
+    ->Args({640, 360})->Args({1280, 720})
+    ->Unit(benchmark::kMillisecond)->UseRealTime();
+
+/// One explicit Euler step of every particle through the trilinearly sampled
+/// static force grid, gravity, wind and drag: the least an advection step can do.
+void BM_RawSamplerAdvection(benchmark::State& state)
+{
+    const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, std::size_t(state.range(1)));
+    CloudAtFrame100& cloud = cloudAtFrame100(state.range(0));
+    cloud.simulator->restoreState(cloud.state);
+    static const openvdb::Vec3SGrid::Ptr forces = cloud.simulator->staticForceGrid(); // the same for every count
+    const openvdb::Vec3SGrid& force = *forces;
+    std::vector<Vec3f> position = cloud.simulator->particles().position, velocity = cloud.simulator->particles().velocity;
+    const Vec3f uniform(15.0f, -9.81f, 0.0f);
+    const float drag = 0.4f, dt = 1.0f / 240.0f;
+    for (auto _ : state) {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, position.size(), 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+            const openvdb::tools::GridSampler<openvdb::Vec3SGrid::ConstAccessor, openvdb::tools::BoxSampler> sampler(
+                force.getConstAccessor(), force.transform());
+            for (std::size_t p = r.begin(); p != r.end(); ++p) {
+                const Vec3f a = sampler.wsSample(Vec3d(position[p])) + uniform - velocity[p] * drag;
+                velocity[p] += a * dt;
+                position[p] += velocity[p] * dt;
+            }
+        });
+    }
+    state.counters["particle_steps_per_s"] =
+        benchmark::Counter(double(position.size()), benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_RawSamplerAdvection)
+    ->ArgNames({"particles", "threads"})
+    ->Args({50'000, 2})->Args({1'000'000, 1})->Args({1'000'000, 2})
+    ->Unit(benchmark::kMillisecond)->UseRealTime();
+
+/// vfield's POV-Ray back-end on the showcase's frame 100: df3 export, scene
+/// text and a povray run, at the settings of BM_RenderCloud's first case.
+void BM_PovrayFrame(benchmark::State& state)
+{
+    if (!povrayAvailable()) {
+        state.SkipWithError("povray is not installed");
+        return;
+    }
+    ShowcaseFrame& s = showcase();
+    const int width = int(state.range(0)), height = int(state.range(1));
+    const std::string dir = (std::filesystem::temp_directory_path() / "vfield-bench-povray").string();
+    std::filesystem::create_directories(dir);
+    writeTextAtomically(dir + "/meshes.inc",
+                        povrayMeshesText({{0, &s.terrain, SurfaceMaterial::Terrain, Transform{}}}, s.surfaces.staticBounds().min()[1],
+                                         s.surfaces.staticBounds().max()[1]));
+    PovrayOptions options;
+    options.width = width;
+    options.height = height;
+    options.samplesPerPixel = int(state.range(2));
+    options.threads = 2;
+    for (auto _ : state) {
+        const CloudVolume volume(s.density, s.scene.render.image, s.scene.render.sun.direction, &s.surfaces);
+        PovrayFrame frame;
+        frame.settings = &s.scene.render;
+        frame.camera = Camera::fromSettings(s.scene.render.camera, width, height);
+        frame.frame = 100;
+        frame.meshInclude = "meshes.inc";
+        frame.staticObjects = {0};
+        PovrayCloud cloud;
+        cloud.df3File = "density.df3";
+        cloud.placement = writeDf3(*s.density, dir + "/density.df3");
+        cloud.skyLitDf3File = "sky_lit.df3";
+        cloud.skyLitPlacement = writeDf3(*volume.skyLitDensity(), dir + "/sky_lit.df3");
+        cloud.volumeStep = s.scene.render.image.volumeStep;
+        frame.cloud = cloud;
+        writeTextAtomically(dir + "/frame.pov", povrayFrameText(frame));
+        runPovray(dir, "frame.pov", "frame.png", options);
+    }
+}
+BENCHMARK(BM_PovrayFrame)
+    ->ArgNames({"w", "h", "spp"})
+    ->Args({320, 180, 1})
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+
+} // namespace

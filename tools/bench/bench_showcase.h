@@ -1,0 +1,38 @@
+#pragma once
+// The cloud showcase at frame 100 (the cloud over the valley, near the
+// terrain), shared by the benchmarks: the simulator there, and the renderer's
+// surfaces, density and camera.
+
+#include <vfield/render/renderer.h>
+#include <vfield/scene/scene.h>
+#include <vfield/sim/simulator.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+namespace vfield::bench {
+
+struct CloudAtFrame100 {
+    std::unique_ptr<Simulator> simulator;
+    std::string state; ///< the state at frame 100, to reset to
+};
+
+/// The showcase with `particles` particles, advanced to frame 100; built once per count.
+CloudAtFrame100& cloudAtFrame100(int64_t particles);
+
+/// The showcase's surfaces and its frame-100 density (50,000 particles).
+struct ShowcaseFrame {
+    Scene scene;
+    SurfaceScene surfaces;
+    TriangleMesh terrain; ///< world space
+    openvdb::FloatGrid::Ptr density;
+
+    ShowcaseFrame();
+    FrameToRender frame(int width, int height, int spp, const CloudVolume* volume);
+};
+
+/// Built once.
+ShowcaseFrame& showcase();
+
+} // namespace vfield::bench
