@@ -54,11 +54,16 @@ bool povrayAvailable()
     return false;
 }
 
-void runPovray(const std::string& folder, const std::string& sceneFile, const std::string& imageFile,
-               const PovrayOptions& options)
+void requirePovray()
 {
     if (!povrayAvailable())
         throw Error("POV-Ray (the povray program) is not on PATH; install the Debian package 'povray' (tools/setup does)");
+}
+
+void runPovray(const std::string& folder, const std::string& sceneFile, const std::string& imageFile,
+               const PovrayOptions& options)
+{
+    requirePovray();
     if (options.width < 1 || options.height < 1 || options.samplesPerPixel < 1 || options.threads < 1)
         throw ValueError("POV-Ray needs a positive size, sample count and thread count");
 

@@ -155,15 +155,15 @@ public:
         pov.meshInclude = kMeshInclude;
         pov.staticObjects = mStaticObjects;
         pov.dynamicPoses = poses;
-        const std::string df3 = frameFileName("density", frame, "df3"), scene = frameFileName("frame", frame, "pov"),
-                          rendered = frameFileName("render", frame, "png");
+        const std::string df3 = frameFileName("density", frame, "df3"), skyLitDf3 = frameFileName("sky_lit", frame, "df3"),
+                          scene = frameFileName("frame", frame, "pov"), rendered = frameFileName("render", frame, "png");
         const fs::path folder(mFolder);
         if (!density.empty()) {
             PovrayCloud cloud;
             cloud.df3File = df3;
             cloud.placement = writeDf3(density, (folder / df3).string());
             cloud.volumeStep = mScene.render.image.volumeStep;
-            cloud.skyLitDf3File = frameFileName("sky_lit", frame, "df3");
+            cloud.skyLitDf3File = skyLitDf3;
             cloud.skyLitPlacement = writeDf3(*volume.skyLitDensity(), (folder / cloud.skyLitDf3File).string());
             pov.cloud = cloud;
         }
@@ -172,12 +172,16 @@ public:
         options.width = width;
         options.height = height;
         options.samplesPerPixel = samplesPerPixel;
-        runPovray(mFolder, scene, rendered, options);
+        try {
+            runPovray(mFolder, scene, rendered, options);
+        } catch (...) {
+            mKeep = true; // a failed frame's scene files and log stay for inspection
+            throw;
+        }
         fs::create_directories(fs::path(image).parent_path());
         fs::rename(folder / rendered, image);
         if (!mKeep)
-            for (const std::string& file : {df3, frameFileName("sky_lit", frame, "df3"), scene, rendered + ".log"})
-                fs::remove(folder / file);
+            for (const std::string& file : {df3, skyLitDf3, scene, rendered + ".log"}) fs::remove(folder / file);
     }
 
 private:
@@ -208,8 +212,7 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
     const bool both = options.backend == RenderBackend::Both;
     if (both && std::find(options.formats.begin(), options.formats.end(), "png") == options.formats.end())
         throw ValueError("the side-by-side images of both back-ends are png: include png in the formats");
-    if (usePovray && !povrayAvailable())
-        throw Error("POV-Ray (the povray program) is not on PATH; install the Debian package 'povray' (tools/setup does)");
+    if (usePovray) requirePovray();
 
     // Surfaces once: static meshes into one BVH, dynamic ones as instances.
     // Embree places a following camera for either back-end.

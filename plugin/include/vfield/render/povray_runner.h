@@ -28,5 +28,7 @@ void runPovray(const std::string& folder, const std::string& sceneFile, const st
 
 /// Whether a povray program is on PATH.
 bool povrayAvailable();
+/// Throws Error naming the Debian package when povray is not on PATH.
+void requirePovray();
 
 } // namespace vfield
