@@ -75,6 +75,10 @@ struct SurfaceScene::Impl {
     std::vector<Dynamic> dynamics;          ///< instance id = index + 1 (0 is the static one)
     RTCGeometry staticInstance = nullptr;
 
+    /// The scene rays are traced in: with no dynamic meshes, the static BVH
+    /// itself, which saves traversing the instance level.
+    RTCScene traced() const { return dynamics.empty() && staticBvh.scene ? staticBvh.scene : top; }
+
     ~Impl()
     {
         for (Dynamic& d : dynamics)
@@ -166,10 +170,11 @@ bool SurfaceScene::intersect(const Vec3d& origin, const Vec3d& dir, double tMin,
     rh.ray.flags = 0;
     rh.ray.time = 0.0f;
     rh.hit.geomID = rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(mImpl->top, &context, &rh);
+    rtcIntersect1(mImpl->traced(), &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
 
-    const unsigned instance = rh.hit.instID[0];
+    // No instance: a hit in the static BVH traced directly.
+    const unsigned instance = rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID ? 0 : rh.hit.instID[0];
     const MeshBvh& bvh = instance == 0 ? mImpl->staticBvh : mImpl->dynamics[instance - 1].bvh;
     const Transform* pose = instance == 0 ? nullptr : &mImpl->dynamics[instance - 1].pose;
     // Smooth normal from the corners' normals (object space), then into the world.
@@ -211,7 +216,7 @@ bool SurfaceScene::occluded(const Vec3d& origin, const Vec3d& dir, double tMin, 
     ray.mask = ~0u;
     ray.flags = 0;
     ray.time = 0.0f;
-    rtcOccluded1(mImpl->top, &context, &ray);
+    rtcOccluded1(mImpl->traced(), &context, &ray);
     return ray.tfar < 0.0f; // Embree sets tfar to -inf on a hit
 }
 

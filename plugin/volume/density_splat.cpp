@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 namespace vfield {
 
@@ -42,6 +43,8 @@ struct Splat {
 /// Particles per leaf of the fixed reduction tree: the order of float sums
 /// depends on this constant only, not on the threads.
 constexpr std::size_t kParticlesPerChunk = 16384;
+/// The most voxels a chunk splats densely at once (64 MiB of weights and momenta).
+constexpr std::size_t kMaxDenseVoxels = std::size_t(1) << 22;
 
 } // namespace
 
@@ -76,36 +79,78 @@ DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& o
     }
 
     const double reachSqr = radiusSqr / (voxel * voxel); // the kernel radius squared, in voxels
-    const auto splatRange = [&](const tbb::blocked_range<std::size_t>& range, Splat& into) {
-        auto weight = into.weight->getAccessor();
-        auto momentum = into.momentum->getAccessor();
-        for (std::size_t n = range.begin(); n != range.end(); ++n) {
+    // A chunk's particles are splatted into dense arrays over their box, then
+    // the voxels they reached are added to the chunk's grids: the inner loop
+    // is plain arithmetic, with no tree lookups. Each voxel's sum still runs
+    // over the particles in order, so the sums are those of voxel-by-voxel
+    // accumulation. A chunk whose box is too large is halved, in order.
+    const std::function<void(std::size_t, std::size_t, Splat&)> splatRange = [&](std::size_t first, std::size_t last, Splat& into) {
+        openvdb::CoordBBox box;
+        for (std::size_t n = first; n != last; ++n)
+            box.expand(openvdb::Coord::round(transform->worldToIndex(Vec3d(particles.position[order[n]]))));
+        box.expand(reach);
+        const openvdb::Coord dim = box.dim();
+        const std::size_t voxels = std::size_t(dim.x()) * std::size_t(dim.y()) * std::size_t(dim.z());
+        if (voxels > kMaxDenseVoxels && last - first > 1) {
+            const std::size_t middle = first + (last - first) / 2;
+            splatRange(first, middle, into);
+            splatRange(middle, last, into);
+            return;
+        }
+        std::vector<float> weight(voxels, 0.0f);
+        std::vector<openvdb::Vec3s> momentum(voxels, openvdb::Vec3s(0.0f));
+        const openvdb::Coord origin = box.min();
+        for (std::size_t n = first; n != last; ++n) {
             const std::size_t p = order[n];
             const openvdb::Vec3s v = particles.velocity[p];
             const openvdb::Vec3d index = transform->worldToIndex(Vec3d(particles.position[p]));
             const openvdb::Coord centre = openvdb::Coord::round(index);
-            for (int i = -reach; i <= reach; ++i)
-                for (int j = -reach; j <= reach; ++j)
-                    for (int k = -reach; k <= reach; ++k) {
-                        const openvdb::Coord c = centre.offsetBy(i, j, k);
-                        const double r2 = (c.asVec3d() - index).lengthSqr(); // in voxels: the transform is uniform
+            // The kernel's sphere row by row along z (z is fastest in the
+            // arrays, as in OpenVDB leaves); one voxel of slack at each end of
+            // a row, the exact test decides.
+            for (int i = -reach; i <= reach; ++i) {
+                const int x = centre.x() + i;
+                const double dx = double(x) - index.x(), dx2 = dx * dx;
+                if (dx2 >= reachSqr) continue;
+                for (int j = -reach; j <= reach; ++j) {
+                    const int y = centre.y() + j;
+                    const double dy = double(y) - index.y(), dxy2 = dx2 + dy * dy;
+                    if (dxy2 >= reachSqr) continue;
+                    const double halfRow = std::sqrt(reachSqr - dxy2);
+                    const int zFirst = std::max(centre.z() - reach, int(std::floor(index.z() - halfRow)));
+                    const int zLast = std::min(centre.z() + reach, int(std::ceil(index.z() + halfRow)));
+                    const std::size_t row = (std::size_t(x - origin.x()) * dim.y() + std::size_t(y - origin.y())) * dim.z();
+                    for (int z = zFirst; z <= zLast; ++z) {
+                        const double dz = double(z) - index.z();
+                        const double r2 = dxy2 + dz * dz;
                         if (r2 >= reachSqr) continue;
                         const double q = 1.0 - r2 / reachSqr;
                         const float w = float(q * q * q);
-                        auto* weightLeaf = weight.touchLeaf(c);
-                        auto* momentumLeaf = momentum.touchLeaf(c);
-                        const openvdb::Index offset = weightLeaf->coordToOffset(c);
-                        weightLeaf->setValueOn(offset, weightLeaf->getValue(offset) + w);
-                        momentumLeaf->setValueOn(offset, momentumLeaf->getValue(offset) + v * w);
+                        const std::size_t at = row + std::size_t(z - origin.z());
+                        weight[at] += w;
+                        momentum[at] += v * w;
                     }
+                }
+            }
         }
+        auto weightAccessor = into.weight->getAccessor();
+        auto momentumAccessor = into.momentum->getAccessor();
+        for (int x = 0; x < dim.x(); ++x)
+            for (int y = 0; y < dim.y(); ++y)
+                for (int z = 0; z < dim.z(); ++z) {
+                    const std::size_t at = (std::size_t(x) * dim.y() + std::size_t(y)) * dim.z() + std::size_t(z);
+                    if (weight[at] == 0.0f) continue;
+                    const openvdb::Coord c = origin.offsetBy(x, y, z);
+                    weightAccessor.setValueOn(c, weightAccessor.getValue(c) + weight[at]);
+                    momentumAccessor.setValueOn(c, momentumAccessor.getValue(c) + momentum[at]);
+                }
     };
 
     Splat total = tbb::parallel_deterministic_reduce(
         tbb::blocked_range<std::size_t>(0, particles.size(), kParticlesPerChunk), Splat(transform),
         [&](const tbb::blocked_range<std::size_t>& range, const Splat&) {
             Splat partial(transform); // its own grids: the identity's are shared by every chunk
-            splatRange(range, partial);
+            splatRange(range.begin(), range.end(), partial);
             return partial;
         },
         [](Splat a, const Splat& b) {
