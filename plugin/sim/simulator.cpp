@@ -168,7 +168,10 @@ Vec3d Simulator::repulsion(const Vec3d& p, double time, openvdb::Vec3SGrid::Cons
         const std::size_t i = mRepulsive[k];
         const SimObject& object = mObjects[i];
         const Transform pose = object.spec->isDynamic ? poseAt(i, time) : mStates[i].pose;
-        const Vec3d local = pose.objectFromWorld(p);
+        // Unrotated objects (terrain, as a rule) skip both rotations, which would change nothing.
+        const Quatd& q = pose.rotation;
+        const bool rotated = !(q.w() == 1.0 && q.x() == 0.0 && q.y() == 0.0 && q.z() == 0.0);
+        const Vec3d local = rotated ? pose.objectFromWorld(p) : (p - pose.translation) / pose.scale;
         if (!object.field->bounds().isInside(local)) continue;
         const openvdb::Vec3d index = object.forceGrid->transform().worldToIndex(local);
         openvdb::Vec3s f;
@@ -176,7 +179,7 @@ Vec3d Simulator::repulsion(const Vec3d& p, double time, openvdb::Vec3SGrid::Cons
             openvdb::tools::PointSampler::sample(accessors[k], index, f);
         else
             openvdb::tools::BoxSampler::sample(accessors[k], index, f);
-        force += pose.rotateToWorld(Vec3d(f));
+        force += rotated ? pose.rotateToWorld(Vec3d(f)) : Vec3d(f);
     }
     return force;
 }
