@@ -1,8 +1,8 @@
 // vfield render SCENE --sim DIR -o OUT: image sequences of a simulated scene.
 
 #include "command.h"
-#include "scene_cli_options.h"
 #include "progress.h"
+#include "scene_cli_options.h"
 
 #include <vfield/core/error.h>
 #include <vfield/scene/render_run.h>

@@ -2,8 +2,8 @@
 // particles per frame, with tracks and statistics.
 
 #include "command.h"
-#include "scene_cli_options.h"
 #include "progress.h"
+#include "scene_cli_options.h"
 
 #include <vfield/scene/simulation_run.h>
 
