@@ -3,6 +3,7 @@
 #include <vfield/core/vdb_file.h>
 
 #include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 
 #include <catch2/catch.hpp>
 
@@ -244,4 +245,78 @@ TEST_CASE("cli: render --backend povray and both write their images; --keep-scen
     const Run exr = vfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/exr --backend povray --format exr", dir);
     CHECK(exr.exitCode == 1);
     CHECK(exr.err == "vfield render: the POV-Ray back-end writes png images only\n");
+}
+
+TEST_CASE("cli: compare follows idiff's thresholds and exits 0 pass, 1 fail, 2 error", "[cli][compare]")
+{
+    const std::string dir = vfield::test::scratchDir("cli-compare");
+    // A 10x10 grey image, and a copy with one pixel 0.1 brighter and one 0.01.
+    const auto write = [&](const std::string& name, float bump, float nudge) {
+        OIIO::ImageBuf image(OIIO::ImageSpec(10, 10, 3, OIIO::TypeDesc::FLOAT));
+        const float grey[3] = {0.5f, 0.5f, 0.5f};
+        OIIO::ImageBufAlgo::fill(image, grey);
+        const float bumped[3] = {0.5f + bump, 0.5f, 0.5f}, nudged[3] = {0.5f, 0.5f + nudge, 0.5f};
+        image.setpixel(3, 4, bumped, 3);
+        image.setpixel(7, 1, nudged, 3);
+        REQUIRE(image.write(dir + "/" + name));
+    };
+    write("a.exr", 0.0f, 0.0f);
+    write("b.exr", 0.1f, 0.01f);
+    const auto compare = [&](const std::string& arguments) { return vfieldCli("compare " + arguments, dir); };
+
+    const Run same = compare(dir + "/a.exr " + dir + "/a.exr");
+    CHECK(same.exitCode == 0);
+    CHECK(same.out.find("PASS") != std::string::npos);
+    const Run differ = compare(dir + "/a.exr " + dir + "/b.exr --diff " + dir + "/d.png");
+    CHECK(differ.exitCode == 1);
+    CHECK(differ.out.find("2 pixels (2%) over 1e-06") != std::string::npos);
+    CHECK(differ.out.find("Max error = 0.1 @ (3, 4, channel 0)") != std::string::npos);
+    CHECK(std::filesystem::exists(dir + "/d.png"));
+    // 2 of 100 pixels over 0.005: 2% allowed passes, 1% fails; a hard limit below 0.1 fails.
+    CHECK(compare(dir + "/a.exr " + dir + "/b.exr --fail 0.005 --fail-percent 2").exitCode == 0);
+    CHECK(compare(dir + "/a.exr " + dir + "/b.exr --fail 0.005 --fail-percent 1").exitCode == 1);
+    CHECK(compare(dir + "/a.exr " + dir + "/b.exr --fail 0.05 --fail-percent 1").exitCode == 0);
+    CHECK(compare(dir + "/a.exr " + dir + "/b.exr --fail 0.05 --fail-percent 1 --hard-fail 0.09").exitCode == 1);
+    const Run warned = compare(dir + "/a.exr " + dir + "/b.exr --fail 0.2 --warn 0.005");
+    CHECK(warned.exitCode == 0);
+    CHECK(warned.out.find("WARNING") != std::string::npos);
+
+    const Run missing = compare(dir + "/a.exr " + dir + "/none.exr");
+    CHECK(missing.exitCode == 2);
+    CHECK(missing.err.rfind("vfield compare: " + dir + "/none.exr: cannot read the image", 0) == 0);
+    CHECK(lineCount(missing.err) == 1);
+
+    // VDB files: voxel by voxel within a tolerance.
+    openvdb::initialize();
+    const auto grid = [](float value) {
+        openvdb::FloatGrid::Ptr g = openvdb::FloatGrid::create(0.0f);
+        g->setName("density");
+        g->tree().setValue(openvdb::Coord(1, 2, 3), 1.0f);
+        g->tree().setValue(openvdb::Coord(4, 5, 6), value);
+        return g;
+    };
+    vfield::writeVdb(dir + "/a.vdb", {grid(2.0f)});
+    vfield::writeVdb(dir + "/b.vdb", {grid(2.001f)});
+    const Run vdbDiffer = compare(dir + "/a.vdb " + dir + "/b.vdb");
+    CHECK(vdbDiffer.exitCode == 1);
+    CHECK(vdbDiffer.out.find("density (float): 1 of 2 voxels differ") != std::string::npos);
+    CHECK(compare(dir + "/a.vdb " + dir + "/b.vdb --tolerance 0.01").exitCode == 0);
+    CHECK(compare(dir + "/a.vdb " + dir + "/a.exr").exitCode == 2);
+}
+
+TEST_CASE("cli: --set changes scene values and names a bad override", "[cli][scene]")
+{
+    const std::string dir = vfield::test::scratchDir("cli-set");
+    std::ofstream(dir + "/s.json") << R"({"version": 1, "frames": {"start": 1, "end": 1, "fps": 24},
+      "objects": [{"name": "ground", "mesh": {"box": {"min": [-20, -2, -20], "max": [20, 0, 20]}}}],
+      "clouds": [{"count": 300, "center": [0, 6, 0], "radius": 2}]})";
+    const auto simulate = [&](const std::string& set) { return vfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim " + set, dir); };
+    REQUIRE(simulate("--set /clouds/0/count=120 -q").exitCode == 0);
+    CHECK(slurp(dir + "/sim/stats.json").find("\"alive\": 120,") != std::string::npos);
+    CHECK(simulate("--set /clouds/0/count=abc").err ==
+          "vfield simulate: override /clouds/0/count=abc: the value is not JSON (a string needs its quotes)\n");
+    CHECK(simulate("--set clouds=1").err == "vfield simulate: override clouds=1: a JSON pointer starts with '/'\n");
+    CHECK(simulate("--set /clouds/0/count=-5").err ==
+          "vfield simulate: " + dir + "/s.json: /clouds/0/count: expected a positive integer, got -5\n");
+    CHECK(simulate("--set /clouds/0/count").exitCode == 2);
 }
