@@ -12,7 +12,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <sys/wait.h>
 
 namespace {
@@ -22,21 +21,13 @@ struct Run {
     std::string out, err;
 };
 
-std::string slurp(const std::string& path)
-{
-    std::ifstream in(path);
-    std::stringstream text;
-    text << in.rdbuf();
-    return text.str();
-}
-
 /// Runs the vfield binary with arguments (a shell-quoted string).
 Run vfieldCli(const std::string& arguments, const std::string& dir)
 {
     const std::string out = dir + "/stdout", err = dir + "/stderr";
     const std::string command = std::string(VFIELD_CLI_PATH) + " " + arguments + " >" + out + " 2>" + err;
     const int status = std::system(command.c_str());
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, vfield::test::readTextFile(out), vfield::test::readTextFile(err)};
 }
 
 int lineCount(const std::string& text) { return int(std::count(text.begin(), text.end(), '\n')); }
@@ -152,7 +143,7 @@ TEST_CASE("cli: simulate writes frames and progress and export-mesh places objec
     CHECK(quiet.err.empty());
 
     REQUIRE(vfieldCli("export-mesh " + dir + "/s.json --object ground -o " + dir + "/g.obj", dir).exitCode == 0);
-    CHECK(slurp(dir + "/g.obj").find("v -20 -3 -20") != std::string::npos); // world space
+    CHECK(vfield::test::readTextFile(dir + "/g.obj").find("v -20 -3 -20") != std::string::npos); // world space
     REQUIRE(vfieldCli("export-mesh " + dir + "/s.json --object dart --frame 4 --sim " + dir + "/out -o " + dir + "/d.obj",
                       dir)
                 .exitCode == 0);
@@ -312,7 +303,7 @@ TEST_CASE("cli: --set changes scene values and names a bad override", "[cli][sce
       "clouds": [{"count": 300, "center": [0, 6, 0], "radius": 2}]})";
     const auto simulate = [&](const std::string& set) { return vfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim " + set, dir); };
     REQUIRE(simulate("--set /clouds/0/count=120 -q").exitCode == 0);
-    CHECK(slurp(dir + "/sim/stats.json").find("\"alive\": 120,") != std::string::npos);
+    CHECK(vfield::test::readTextFile(dir + "/sim/stats.json").find("\"alive\": 120,") != std::string::npos);
     CHECK(simulate("--set /clouds/0/count=abc").err ==
           "vfield simulate: override /clouds/0/count=abc: the value is not JSON (a string needs its quotes)\n");
     CHECK(simulate("--set clouds=1").err == "vfield simulate: override clouds=1: a JSON pointer starts with '/'\n");

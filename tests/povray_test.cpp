@@ -20,9 +20,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <random>
-#include <sstream>
 
 using namespace vfield;
 namespace fs = std::filesystem;
@@ -46,21 +44,13 @@ openvdb::FloatGrid::Ptr lumpyCloud()
     return grid;
 }
 
-std::string readText(const std::string& path)
-{
-    std::ifstream in(path);
-    std::stringstream text;
-    text << in.rdbuf();
-    return text.str();
-}
-
 /// Compares text with a checked-in file; on a difference, writes the new text
 /// beside the build so a reviewer can diff it and copy it over on purpose.
 void checkMatchesExpected(const std::string& text, const std::string& expectedName)
 {
     const std::string expectedPath = test::dataPath("povray/" + expectedName);
     const std::string actualPath = fs::absolute(fs::path("povray-actual") / expectedName).string();
-    if (text == readText(expectedPath)) return;
+    if (text == test::readTextFile(expectedPath)) return;
     writeTextAtomically(actualPath, text);
     FAIL("the exported text differs from " << expectedPath << "; the new text is in " << actualPath);
 }

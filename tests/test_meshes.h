@@ -20,4 +20,7 @@ TriangleMesh paperFigure3Mesh();
 std::string dataPath(const std::string& name);
 std::string scratchDir(const std::string& name);
 
+/// A file's whole contents (empty if it cannot be read).
+std::string readTextFile(const std::string& path);
+
 } // namespace vfield::test
