@@ -3,6 +3,7 @@
 #include <vfield/core/vdb_file.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 namespace vfield {
