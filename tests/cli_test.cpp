@@ -38,9 +38,8 @@ TEST_CASE("cli: probe prints the octree's force at each point", "[cli]")
 {
     const std::string dir = vfield::test::scratchDir("cli-probe");
     std::ofstream(dir + "/points.csv") << "x,y,z\n0.75,0.75,0.75\n\n# outside\n2,2,2\n";
-    const Run probe = vfieldCli("probe " + vfield::test::dataPath("cube_quads.obj") + " --margin 0 --points " + dir +
-                                    "/points.csv --quiet",
-                                dir);
+    const Run probe = vfieldCli(
+        "probe " + vfield::test::dataPath("cube_quads.obj") + " --margin 0 --points " + dir + "/points.csv --quiet", dir);
     INFO(probe.err);
     REQUIRE(probe.exitCode == 0);
     // The unit cube's (+,+,+) octant: three faces, (1,1,1)/sqrt(3) x level 2 x boost 10,
@@ -134,8 +133,8 @@ TEST_CASE("cli: simulate writes frames and progress and export-mesh places objec
     REQUIRE(run.exitCode == 0);
     CHECK(run.err.find("frame 4/4") != std::string::npos); // plain progress lines when not a terminal
     CHECK(run.err.find("clearance of particles: min") != std::string::npos);
-    for (const char* name : {"field.vdb", "density.0002.vdb", "density.0004.vdb", "particles.0004.vdb", "tracks.json",
-                             "stats.json"})
+    for (const char* name :
+         {"field.vdb", "density.0002.vdb", "density.0004.vdb", "particles.0004.vdb", "tracks.json", "stats.json"})
         CHECK(std::filesystem::exists(dir + "/out/" + name));
     CHECK_FALSE(std::filesystem::exists(dir + "/out/density.0001.vdb"));
 
@@ -144,8 +143,7 @@ TEST_CASE("cli: simulate writes frames and progress and export-mesh places objec
 
     REQUIRE(vfieldCli("export-mesh " + dir + "/s.json --object ground -o " + dir + "/g.obj", dir).exitCode == 0);
     CHECK(vfield::test::readTextFile(dir + "/g.obj").find("v -20 -3 -20") != std::string::npos); // world space
-    REQUIRE(vfieldCli("export-mesh " + dir + "/s.json --object dart --frame 4 --sim " + dir + "/out -o " + dir + "/d.obj",
-                      dir)
+    REQUIRE(vfieldCli("export-mesh " + dir + "/s.json --object dart --frame 4 --sim " + dir + "/out -o " + dir + "/d.obj", dir)
                 .exitCode == 0);
     const Run missing = vfieldCli("export-mesh " + dir + "/s.json --object plane -o " + dir + "/p.obj", dir);
     CHECK(missing.exitCode == 1);
@@ -219,8 +217,8 @@ TEST_CASE("cli: render --backend povray and both write their images; --keep-scen
     for (const char* frame : {"/pov/frame.0001.png", "/pov/frame.0002.png"}) CHECK(std::filesystem::exists(dir + frame));
     CHECK_FALSE(std::filesystem::exists(dir + "/pov/povray-scene")); // scene files removed
 
-    const Run both =
-        vfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/both --backend both --keep-scene --frames 2", dir);
+    const Run both = vfieldCli(
+        "render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/both --backend both --keep-scene --frames 2", dir);
     INFO(both.err);
     REQUIRE(both.exitCode == 0);
     CHECK(both.err.find("POV-Ray / Embree = ") != std::string::npos);
@@ -233,7 +231,8 @@ TEST_CASE("cli: render --backend povray and both write their images; --keep-scen
     CHECK(sideBySide.spec().width == 96);
     CHECK(sideBySide.spec().height == 27);
 
-    const Run exr = vfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/exr --backend povray --format exr", dir);
+    const Run exr =
+        vfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/exr --backend povray --format exr", dir);
     CHECK(exr.exitCode == 1);
     CHECK(exr.err == "vfield render: the POV-Ray back-end writes png images only\n");
 }
@@ -301,7 +300,9 @@ TEST_CASE("cli: --set changes scene values and names a bad override", "[cli][sce
     std::ofstream(dir + "/s.json") << R"({"version": 1, "frames": {"start": 1, "end": 1, "fps": 24},
       "objects": [{"name": "ground", "mesh": {"box": {"min": [-20, -2, -20], "max": [20, 0, 20]}}}],
       "clouds": [{"count": 300, "center": [0, 6, 0], "radius": 2}]})";
-    const auto simulate = [&](const std::string& set) { return vfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim " + set, dir); };
+    const auto simulate = [&](const std::string& set) {
+        return vfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim " + set, dir);
+    };
     REQUIRE(simulate("--set /clouds/0/count=120 -q").exitCode == 0);
     CHECK(vfield::test::readTextFile(dir + "/sim/stats.json").find("\"alive\": 120,") != std::string::npos);
     CHECK(simulate("--set /clouds/0/count=abc").err ==

@@ -73,5 +73,6 @@ TEST_CASE("particle grid: every particle is stored with its attributes", "[volum
     CHECK(points->getName() == "particles");
     CHECK(openvdb::points::pointCount(points->tree()) == 5000);
     const auto& descriptor = points->tree().cbeginLeaf()->attributeSet().descriptor();
-    for (const char* name : {"P", "v", "id", "pscale"}) CHECK(descriptor.find(name) != openvdb::points::AttributeSet::INVALID_POS);
+    for (const char* name : {"P", "v", "id", "pscale"})
+        CHECK(descriptor.find(name) != openvdb::points::AttributeSet::INVALID_POS);
 }

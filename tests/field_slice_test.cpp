@@ -1,5 +1,5 @@
-#include <vfield/field/field_slice.h>
 #include <vfield/core/error.h>
+#include <vfield/field/field_slice.h>
 #include <vfield/mesh/procedural.h>
 
 #include <catch2/catch.hpp>

@@ -17,8 +17,7 @@ TEST_CASE("json: a wrong value names the file and the JSON path", "[json]")
     JsonObject clouds(root);
     const JsonValue first = clouds.at("clouds").asArray()[0];
     JsonObject cloud(first);
-    CHECK_THROWS_WITH(cloud.integer("count", 1, 1, 1000),
-                      "cloud.json: /clouds/0/count: expected a positive integer, got -5");
+    CHECK_THROWS_WITH(cloud.integer("count", 1, 1, 1000), "cloud.json: /clouds/0/count: expected a positive integer, got -5");
 }
 
 TEST_CASE("json: a key nobody reads is an error naming it", "[json]")

@@ -97,9 +97,9 @@ TEST_CASE("octree field: cells are half-open but closed on the root's max faces"
 {
     const OctreeField field = OctreeField::build(makeBox({}), withMargin(0.0));
     const double m = 2 * 10 / std::sqrt(3.0);
-    requireForce(field.sample({0, 0, 0}), {m, m, m}, 2, true);        // the centre belongs to the upper octant
-    requireForce(field.sample({1, 1, 1}), {m, m, m}, 2, true);        // the root's max corner is inside
-    requireForce(field.sample({-1, -1, -1}), {-m, -m, -m}, 2, true);  // and so is its min corner
+    requireForce(field.sample({0, 0, 0}), {m, m, m}, 2, true);       // the centre belongs to the upper octant
+    requireForce(field.sample({1, 1, 1}), {m, m, m}, 2, true);       // the root's max corner is inside
+    requireForce(field.sample({-1, -1, -1}), {-m, -m, -m}, 2, true); // and so is its min corner
     requireForce(field.sample({-1e-12, 0, 0}), {-m, m, m}, 2, true);
 }
 

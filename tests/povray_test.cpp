@@ -161,7 +161,7 @@ TEST_CASE("povray: a df3 of a grid too large for maxResolution samples it on coa
     const std::string dir = test::scratchDir("df3-coarse");
     const Df3Placement placement = writeDf3(*grid, dir + "/cloud.df3", 8);
     const Df3Volume volume = readDf3(dir + "/cloud.df3");
-    CHECK(volume.nx == 8);                  // 15 cells at a factor of 2
+    CHECK(volume.nx == 8); // 15 cells at a factor of 2
     CHECK(placement.cellSize == 1.0);
     CHECK(placement.worldBounds.min().eq(Vec3d(3.0 - 7.5 * 0.5, 4.0 - 7.5 * 0.5, -2.0 - 7.5 * 0.5)));
     const openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> sampler(*grid);
@@ -252,9 +252,8 @@ TEST_CASE("povray: terrain against the sky agrees with vfield's renderer (IoU >=
     embree.terrainHigh = mesh.bounds().max()[1];
     const std::string dir = test::scratchDir("povray-mask");
     writeFrameImage(renderFrame(embree), dir + "/vfield.png");
-    writeTextAtomically(dir + "/meshes.inc",
-                        povrayMeshesText({{0, &mesh, SurfaceMaterial::Terrain, Transform{}}}, mesh.bounds().min()[1],
-                                         mesh.bounds().max()[1]));
+    writeTextAtomically(dir + "/meshes.inc", povrayMeshesText({{0, &mesh, SurfaceMaterial::Terrain, Transform{}}},
+                                                              mesh.bounds().min()[1], mesh.bounds().max()[1]));
     PovrayFrame frame;
     frame.settings = &settings;
     frame.camera = embree.camera;

@@ -121,8 +121,8 @@ TEST_CASE("render: a cloud behind a surface does not show through it", "[render]
     SmallScene scene;
     const RenderImage surfacesOnly = renderFrame(scene.frame);
     // A dense cloud behind the pillar, as seen from the camera.
-    const CloudVolume cloud(constantBox({-3, 1, -12}, {3, 5, -6}, 0.25, 2.0f), scene.settings.image,
-                            scene.settings.sun.direction, &scene.surfaces);
+    const CloudVolume cloud(constantBox({-3, 1, -12}, {3, 5, -6}, 0.25, 2.0f), scene.settings.image, scene.settings.sun.direction,
+                            &scene.surfaces);
     scene.frame.volume = &cloud;
     const RenderImage withCloud = renderFrame(scene.frame);
     // The pillar's centre pixel: the same in both; beside the pillar the cloud shows.
@@ -134,8 +134,8 @@ TEST_CASE("render: a cloud behind a surface does not show through it", "[render]
 TEST_CASE("render: images are identical for 1 and 2 threads", "[render]")
 {
     SmallScene scene;
-    const CloudVolume cloud(constantBox({-6, 2, -3}, {6, 6, 3}, 0.25, 0.6f), scene.settings.image,
-                            scene.settings.sun.direction, &scene.surfaces);
+    const CloudVolume cloud(constantBox({-6, 2, -3}, {6, 6, 3}, 0.25, 0.6f), scene.settings.image, scene.settings.sun.direction,
+                            &scene.surfaces);
     scene.frame.volume = &cloud;
     RenderImage one, two;
     {

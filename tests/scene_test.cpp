@@ -48,9 +48,8 @@ TEST_CASE("scene: bad values are refused with their JSON path", "[scene]")
     CHECK_THROWS_WITH(sceneWith(R"(, "camera": {"follow": {"object": "ground"}})"), Catch::Contains("not a dynamic object"));
     CHECK_THROWS_WITH(parseScene(R"({"version": 2, "objects": []})", "s.json"), Catch::Contains("/version"));
     CHECK_THROWS_WITH(parseScene(R"({"version": 1})", "s.json"), "s.json: /: missing key \"objects\"");
-    CHECK_THROWS_WITH(
-        parseScene(R"({"version": 1, "objects": [{"name": "a", "mesh": {"box": {}}, "mass": 3}]})", "s.json"),
-        Catch::Contains("/objects/0/mass: \"mass\" applies to dynamic objects only"));
+    CHECK_THROWS_WITH(parseScene(R"({"version": 1, "objects": [{"name": "a", "mesh": {"box": {}}, "mass": 3}]})", "s.json"),
+                      Catch::Contains("/objects/0/mass: \"mass\" applies to dynamic objects only"));
 }
 
 TEST_CASE("scene: absurd sizes are refused before anything is allocated", "[scene]")
@@ -60,9 +59,9 @@ TEST_CASE("scene: absurd sizes are refused before anything is allocated", "[scen
                       Catch::Contains("/clouds/1: the clouds ask for more than"));
     CHECK_THROWS_WITH(sceneWith(R"(, "clouds": [{"radius": 1000}], "volume": {"voxelSize": 0.001})"),
                       Catch::Contains("raise volume.voxelSize"));
-    CHECK_THROWS_WITH(parseScene(R"({"version": 1, "objects": [{"name": "t", "mesh": {"terrain": {"cells": [100000, 10]}}}]})",
-                                 "s.json"),
-                      Catch::Contains("/objects/0/mesh/terrain/cells/0"));
+    CHECK_THROWS_WITH(
+        parseScene(R"({"version": 1, "objects": [{"name": "t", "mesh": {"terrain": {"cells": [100000, 10]}}}]})", "s.json"),
+        Catch::Contains("/objects/0/mesh/terrain/cells/0"));
 }
 
 TEST_CASE("scene: a mesh file path is relative to the scene file", "[scene]")

@@ -9,11 +9,14 @@ namespace vfield::test {
 Scene singleParticleScene(const std::string& fieldsJson, int frames, double drag, double fps)
 {
     const std::string text = R"({
-      "version": 1, "frames": {"start": 1, "end": )" + std::to_string(frames) + R"(, "fps": )" + std::to_string(fps) + R"(},
+      "version": 1, "frames": {"start": 1, "end": )" +
+                             std::to_string(frames) + R"(, "fps": )" + std::to_string(fps) + R"(},
       "objects": [],
       "clouds": [{"count": 1, "shape": "box", "center": [0, 0, 0], "halfSize": [1e-9, 1e-9, 1e-9],
-                  "drag": )" + std::to_string(drag) + R"(}],
-      "fields": )" + fieldsJson + R"(,
+                  "drag": )" +
+                             std::to_string(drag) + R"(}],
+      "fields": )" + fieldsJson +
+                             R"(,
       "simulation": {"domain": {"min": [-1e6, -1e6, -1e6], "max": [1e6, 1e6, 1e6]}}
     })";
     return parseScene(text, "particle.json");

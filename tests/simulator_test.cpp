@@ -90,9 +90,9 @@ TEST_CASE("simulator: a uniform field acts only inside its box and fades across 
     CHECK(field.accelerationAt({12.5, 5, 5}) == Vec3d(0, 0, 0)); // beyond it
 
     // A particle outside a hard-edged box stays at rest.
-    Simulator sim(test::singleParticleScene(
-                      R"([{"acceleration": [5, 0, 0], "box": {"min": [10, -1, -1], "max": [20, 1, 1]}}])", 25, 0.0)
-                      .simulation);
+    Simulator sim(
+        test::singleParticleScene(R"([{"acceleration": [5, 0, 0], "box": {"min": [10, -1, -1], "max": [20, 1, 1]}}])", 25, 0.0)
+            .simulation);
     runFrames(sim, 24);
     CHECK(onlyParticle(sim).length() < 1e-8);
 }
@@ -135,9 +135,10 @@ TEST_CASE("clearance: points just below the terrain count as inside", "[sim]")
         CHECK(probe.distance({xz[0], h + 0.6, xz[1]}) > 0.0);
         // Three units above the ground lie 3 n_y from its tangent plane.
         const double e = 0.01;
-        const Vec3d normal = Vec3d(-(terrainHeight(terrain, xz[0] + e, xz[1]) - terrainHeight(terrain, xz[0] - e, xz[1])) / (2 * e), 1.0,
-                                   -(terrainHeight(terrain, xz[0], xz[1] + e) - terrainHeight(terrain, xz[0], xz[1] - e)) / (2 * e))
-                                 .unitSafe();
+        const Vec3d normal =
+            Vec3d(-(terrainHeight(terrain, xz[0] + e, xz[1]) - terrainHeight(terrain, xz[0] - e, xz[1])) / (2 * e), 1.0,
+                  -(terrainHeight(terrain, xz[0], xz[1] + e) - terrainHeight(terrain, xz[0], xz[1] - e)) / (2 * e))
+                .unitSafe();
         CHECK(probe.distance({xz[0], h + 3.0, xz[1]}) == Approx(3.0 * normal[1]).margin(0.5));
     }
 }
@@ -247,5 +248,6 @@ TEST_CASE("simulator: editing how a scene looks keeps its simulation resumable",
     const std::string text = R"({"version": 1, "objects": [], "camera": {"fovDegrees": 30}})";
     const std::string other = R"({"version": 1,   "objects": [], "camera": {"fovDegrees": 60}, "sun": {"intensity": 2}})";
     CHECK(parseScene(text, "a.json").simulationHash == parseScene(other, "a.json").simulationHash);
-    CHECK(parseScene(text, "a.json").simulationHash != parseScene(R"({"version": 1, "objects": [], "seed": 2})", "a.json").simulationHash);
+    CHECK(parseScene(text, "a.json").simulationHash !=
+          parseScene(R"({"version": 1, "objects": [], "seed": 2})", "a.json").simulationHash);
 }

@@ -25,7 +25,7 @@ TEST_CASE("tessellate: no edge is longer than the target and the solid is unchan
     const TriangleMesh fine = tessellate(box, 0.5);
     CHECK(longestEdge(fine) <= 0.5);
     CHECK(fine.triangleCount() > 100);
-    CHECK(analyzeTopology(fine).isClosed());                // still closed and consistently wound
+    CHECK(analyzeTopology(fine).isClosed());                 // still closed and consistently wound
     CHECK(signedVolume(fine) == Approx(24.0).epsilon(1e-9)); // same shape, same orientation
     CHECK(fine.bounds().min() == box.bounds().min());
     CHECK(fine.bounds().max() == box.bounds().max());

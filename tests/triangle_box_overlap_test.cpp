@@ -17,9 +17,9 @@ TEST_CASE("triangle-box overlap: a triangle inside or through the box overlaps i
 
 TEST_CASE("triangle-box overlap: touching a face or an edge or a corner counts", "[field]")
 {
-    CHECK(triangleOverlapsBox(kCenter, kHalf, {1, -3, -3}, {1, 3, -3}, {1, 0, 3}));   // lies in the face x = 1
-    CHECK(triangleOverlapsBox(kCenter, kHalf, {1, 1, 1}, {2, 1, 1}, {2, 2, 2}));      // one corner on the box's corner
-    CHECK(triangleOverlapsBox(kCenter, kHalf, {1, 1, -5}, {1, 1, 5}, {3, 3, 0}));     // an edge along the box's edge
+    CHECK(triangleOverlapsBox(kCenter, kHalf, {1, -3, -3}, {1, 3, -3}, {1, 0, 3})); // lies in the face x = 1
+    CHECK(triangleOverlapsBox(kCenter, kHalf, {1, 1, 1}, {2, 1, 1}, {2, 2, 2}));    // one corner on the box's corner
+    CHECK(triangleOverlapsBox(kCenter, kHalf, {1, 1, -5}, {1, 1, 5}, {3, 3, 0}));   // an edge along the box's edge
 }
 
 TEST_CASE("triangle-box overlap: separated by an axis the bounding boxes miss", "[field]")

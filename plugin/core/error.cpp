@@ -2,10 +2,10 @@
 
 namespace vfield {
 
-FileError::FileError(const std::string& path, const std::string& message)
-    : Error(path + ": " + message), mPath(path) {}
+FileError::FileError(const std::string& path, const std::string& message) : Error(path + ": " + message), mPath(path) {}
 
 ParseError::ParseError(const std::string& path, const std::string& location, const std::string& message)
-    : FileError(path, location + ": " + message), mLocation(location) {}
+    : FileError(path, location + ": " + message), mLocation(location)
+{}
 
 } // namespace vfield

@@ -33,8 +33,7 @@ std::string child(const std::string& pointer, const std::string& token)
 JsonValue::JsonValue(std::shared_ptr<const nlohmann::json> document, const nlohmann::json* value, std::string file,
                      std::string pointer)
     : mDocument(std::move(document)), mValue(value), mFile(std::move(file)), mPointer(std::move(pointer))
-{
-}
+{}
 
 void JsonValue::fail(const std::string& message) const { throw ParseError(mFile, mPointer, message); }
 
@@ -120,8 +119,7 @@ std::vector<JsonValue> JsonValue::asArray() const
 {
     if (!mValue->is_array()) fail("expected an array, got " + brief());
     std::vector<JsonValue> items;
-    for (std::size_t i = 0; i < mValue->size(); ++i)
-        items.push_back(childValue(&(*mValue)[i], std::to_string(i)));
+    for (std::size_t i = 0; i < mValue->size(); ++i) items.push_back(childValue(&(*mValue)[i], std::to_string(i)));
     return items;
 }
 

@@ -27,9 +27,6 @@ Mat4d Transform::matrix() const
     return m;
 }
 
-bool Transform::isIdentity() const
-{
-    return translation == Vec3d(0.0) && scale == 1.0 && rotation.eq(Quatd::identity());
-}
+bool Transform::isIdentity() const { return translation == Vec3d(0.0) && scale == 1.0 && rotation.eq(Quatd::identity()); }
 
 } // namespace vfield

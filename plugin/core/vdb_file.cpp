@@ -130,7 +130,8 @@ uint64_t gridChecksum(const openvdb::GridBase& grid)
         }
         return hash.value();
     }
-    using DenseValueGrids = openvdb::NumericGridTypes::Append<openvdb::Vec3GridTypes>::Append<openvdb::BoolGrid, openvdb::MaskGrid>;
+    using DenseValueGrids =
+        openvdb::NumericGridTypes::Append<openvdb::Vec3GridTypes>::Append<openvdb::BoolGrid, openvdb::MaskGrid>;
     const bool known = grid.apply<DenseValueGrids>([&hash](const auto& typed) {
         addValue(hash, typed.background());
         for (auto it = typed.tree().cbeginValueOn(); it; ++it) {

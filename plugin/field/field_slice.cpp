@@ -58,8 +58,8 @@ void drawArrow(OIIO::ImageBuf& image, const Vec2d& center, const Vec2d& directio
     static const float kWhite[3] = {1.0f, 1.0f, 1.0f};
     const double inPlane = direction.length();
     if (inPlane < 0.2) { // the force points mostly through the plane: a dot
-        OIIO::ImageBufAlgo::render_box(image, int(center[0]) - 1, int(center[1]) - 1, int(center[0]) + 1,
-                                       int(center[1]) + 1, {kWhite, 3}, true);
+        OIIO::ImageBufAlgo::render_box(image, int(center[0]) - 1, int(center[1]) - 1, int(center[0]) + 1, int(center[1]) + 1,
+                                       {kWhite, 3}, true);
         return;
     }
     const Vec2d d = direction / inPlane;
@@ -100,8 +100,7 @@ OIIO::ImageBuf drawFieldSlice(const OctreeField& field, const TriangleMesh& mesh
     if (options.size != 0 && (options.size < 64 || options.size > 16384))
         throw ValueError("slice size must be within 64..16384 pixels");
 
-    const int size = options.size != 0 ? options.size
-                                       : std::clamp(12 << std::min(field.depth() - 1, 12), 1024, 4096);
+    const int size = options.size != 0 ? options.size : std::clamp(12 << std::min(field.depth() - 1, 12), 1024, 4096);
     const int border = 16;
     const SliceProjection projection(root, options.axis, size, border);
     const int extent = size + 2 * border;
@@ -133,8 +132,7 @@ OIIO::ImageBuf drawFieldSlice(const OctreeField& field, const TriangleMesh& mesh
         const double m = leaf.force.length();
         const double range = std::log(strongest / weakest);
         const float value = m <= 0 ? 0.0f : range > 0 ? float(0.1 + 0.9 * std::log(m / weakest) / range) : 1.0f;
-        const OIIO::ROI roi(int(std::lround(lo[0])), int(std::lround(hi[0])), int(std::lround(lo[1])),
-                            int(std::lround(hi[1])));
+        const OIIO::ROI roi(int(std::lround(lo[0])), int(std::lround(hi[0])), int(std::lround(lo[1])), int(std::lround(hi[1])));
         OIIO::ImageBufAlgo::fill(magnitude, {&value, 1}, roi);
     }
     OIIO::ImageBuf image = OIIO::ImageBufAlgo::color_map(magnitude, 0, "viridis");
@@ -152,8 +150,8 @@ OIIO::ImageBuf drawFieldSlice(const OctreeField& field, const TriangleMesh& mesh
         const auto& [lo, hi] = boxes[i];
         const double width = hi[0] - lo[0];
         if (width >= 5.0)
-            OIIO::ImageBufAlgo::render_box(image, int(std::lround(lo[0])), int(std::lround(lo[1])),
-                                           int(std::lround(hi[0])), int(std::lround(hi[1])), {kOutline, 3});
+            OIIO::ImageBufAlgo::render_box(image, int(std::lround(lo[0])), int(std::lround(lo[1])), int(std::lround(hi[0])),
+                                           int(std::lround(hi[1])), {kOutline, 3});
         if (width >= 10.0 && cut[i].force.length() > 0)
             drawArrow(image, (lo + hi) * 0.5, projection.toPixelDirection(Vec3d(cut[i].force).unitSafe()), 0.8 * width);
     }

@@ -54,10 +54,7 @@ double OctreeField::magnitude(int level, bool isSurface) const
     return mOptions.strength * level * (isSurface ? mOptions.surfaceBoost : 1.0);
 }
 
-Vec3f OctreeField::forceOf(const Node& node) const
-{
-    return node.direction * float(magnitude(node.level, node.isSurface));
-}
+Vec3f OctreeField::forceOf(const Node& node) const { return node.direction * float(magnitude(node.level, node.isSurface)); }
 
 namespace {
 
@@ -80,8 +77,7 @@ public:
     OctreeBuilder(std::vector<BuildTriangle> triangles, const OctreeFieldOptions& options,
                   const std::function<double(int, uint32_t, int)>& boundary)
         : mTriangles(std::move(triangles)), mOptions(options), mBoundary(boundary)
-    {
-    }
+    {}
 
     /// Fills out[index] for the node at `cell` of `level` holding `inside`, and
     /// appends its descendants to out.
@@ -248,8 +244,8 @@ OctreeField OctreeField::build(const TriangleMesh& mesh, const OctreeFieldOption
     builder.build(field.mNodes, 0, rootCell, 1, all, Vec3f(0.0f));
     field.mNodes.shrink_to_fit();
     field.mDepth = builder.depth();
-    field.mLeafCount = std::size_t(std::count_if(field.mNodes.begin(), field.mNodes.end(),
-                                                 [](const Node& n) { return n.firstChild == 0; }));
+    field.mLeafCount =
+        std::size_t(std::count_if(field.mNodes.begin(), field.mNodes.end(), [](const Node& n) { return n.firstChild == 0; }));
     return field;
 }
 

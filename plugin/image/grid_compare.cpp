@@ -15,7 +15,7 @@ double difference(const openvdb::Vec3s& a, const openvdb::Vec3s& b) { return (op
 
 /// Every voxel active in `from` (tiles by all their voxels) against `to`;
 /// with skipShared, only those `to` does not hold active.
-template <typename GridT>
+template<typename GridT>
 void compareActiveVoxels(const GridT& from, const GridT& to, bool skipShared, double tolerance, GridDifference& result)
 {
     auto other = to.getConstAccessor();
@@ -33,7 +33,7 @@ void compareActiveVoxels(const GridT& from, const GridT& to, bool skipShared, do
     }
 }
 
-template <typename GridT>
+template<typename GridT>
 void compareVoxels(const GridT& a, const GridT& b, double tolerance, GridDifference& result)
 {
     compareActiveVoxels(a, b, false, tolerance, result);

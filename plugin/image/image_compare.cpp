@@ -26,8 +26,8 @@ ImageComparison compareImages(const std::string& pathA, const std::string& pathB
     ImageComparison result;
     const OIIO::ImageSpec &sa = a.spec(), &sb = b.spec();
     if (sa.width != sb.width || sa.height != sb.height || sa.depth != sb.depth) {
-        result.sizeMismatch = std::to_string(sa.width) + "x" + std::to_string(sa.height) + " vs " + std::to_string(sb.width) + "x" +
-                              std::to_string(sb.height);
+        result.sizeMismatch = std::to_string(sa.width) + "x" + std::to_string(sa.height) + " vs " + std::to_string(sb.width) +
+                              "x" + std::to_string(sb.height);
         result.verdict = CompareVerdict::Fail;
         return result;
     }
@@ -48,13 +48,13 @@ ImageComparison compareImages(const std::string& pathA, const std::string& pathB
 
     if (double(r.nfail) > options.failPercent / 100.0 * double(result.pixels) || r.maxerror > options.hardFail)
         result.verdict = CompareVerdict::Fail;
-    else if (double(r.nwarn) > options.warnPercent / 100.0 * double(result.pixels))
-        result.verdict = CompareVerdict::Warn;
+    else if (double(r.nwarn) > options.warnPercent / 100.0 * double(result.pixels)) result.verdict = CompareVerdict::Warn;
 
     if (!options.diffPath.empty()) {
         OIIO::ImageBuf difference = OIIO::ImageBufAlgo::absdiff(a, b, shared);
         difference = OIIO::ImageBufAlgo::mul(difference, float(options.diffScale));
-        if (difference.has_error()) throw FileError(options.diffPath, "cannot make the difference image: " + difference.geterror());
+        if (difference.has_error())
+            throw FileError(options.diffPath, "cannot make the difference image: " + difference.geterror());
         writeImage(difference, options.diffPath);
     }
     return result;

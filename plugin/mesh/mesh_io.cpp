@@ -41,8 +41,7 @@ void checkPlyHeader(const std::string& path)
     std::size_t begin = 0;
     for (int number = 1;; ++number) {
         const std::size_t end = head.find('\n', begin);
-        if (end == std::string::npos)
-            throw FileError(path, "PLY header does not end (no 'end_header' line in the first 64 KiB)");
+        if (end == std::string::npos) throw FileError(path, "PLY header does not end (no 'end_header' line in the first 64 KiB)");
         std::string line = head.substr(begin, end - begin);
         begin = end + 1;
         while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t')) line.pop_back();
@@ -51,8 +50,7 @@ void checkPlyHeader(const std::string& path)
         if (number == 1) {
             if (line != "ply") throw FileError(path, "not a PLY file (it does not start with 'ply')");
         } else if (number == 2) {
-            if (line != "format ascii 1.0" && line != "format binary_little_endian 1.0" &&
-                line != "format binary_big_endian 1.0")
+            if (line != "format ascii 1.0" && line != "format binary_little_endian 1.0" && line != "format binary_big_endian 1.0")
                 throw FileError(path, where + "expected 'format ascii|binary_little_endian|binary_big_endian 1.0'");
         } else if (line == "end_header") {
             return;
@@ -80,7 +78,10 @@ void recomputePrimitiveTypes(aiMesh& mesh, unsigned meshIndex, const std::string
         const unsigned n = mesh.mFaces[f].mNumIndices;
         if (n == 0)
             throw FileError(path, "mesh " + std::to_string(meshIndex) + ", face " + std::to_string(f) + " has no vertices");
-        types |= n == 1 ? aiPrimitiveType_POINT : n == 2 ? aiPrimitiveType_LINE : n == 3 ? aiPrimitiveType_TRIANGLE : aiPrimitiveType_POLYGON;
+        types |= n == 1   ? aiPrimitiveType_POINT
+                 : n == 2 ? aiPrimitiveType_LINE
+                 : n == 3 ? aiPrimitiveType_TRIANGLE
+                          : aiPrimitiveType_POLYGON;
     }
     mesh.mPrimitiveTypes = types;
 }
@@ -94,8 +95,8 @@ void appendNodeMeshes(const aiScene& scene, const std::string& path, TriangleMes
         for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
             const aiVector3D& p = mesh.mVertices[v];
             if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
-                throw FileError(path, "mesh " + std::to_string(m) + ", vertex " + std::to_string(v) +
-                                          " has a non-finite coordinate");
+                throw FileError(path,
+                                "mesh " + std::to_string(m) + ", vertex " + std::to_string(v) + " has a non-finite coordinate");
             out.points.emplace_back(p.x, p.y, p.z);
         }
         for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
@@ -106,9 +107,8 @@ void appendNodeMeshes(const aiScene& scene, const std::string& path, TriangleMes
             }
             for (unsigned corner = 0; corner < 3; ++corner)
                 if (face.mIndices[corner] >= mesh.mNumVertices)
-                    throw FileError(path, "mesh " + std::to_string(m) + ", face " + std::to_string(f) +
-                                              " uses vertex " + std::to_string(face.mIndices[corner]) + " of " +
-                                              std::to_string(mesh.mNumVertices));
+                    throw FileError(path, "mesh " + std::to_string(m) + ", face " + std::to_string(f) + " uses vertex " +
+                                              std::to_string(face.mIndices[corner]) + " of " + std::to_string(mesh.mNumVertices));
             out.triangles.emplace_back(base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]);
         }
     }
@@ -125,12 +125,11 @@ TriangleMesh loadMesh(const std::string& path, MeshLoadReport* reportOut)
     // Only positions matter: dropping normals, UVs and colours lets assimp keep
     // one vertex per position instead of one per corner.
     importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS, aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
-                                                            aiComponent_COLORS | aiComponent_TEXCOORDS |
-                                                            aiComponent_BONEWEIGHTS | aiComponent_ANIMATIONS |
-                                                            aiComponent_TEXTURES | aiComponent_LIGHTS |
+                                                            aiComponent_COLORS | aiComponent_TEXCOORDS | aiComponent_BONEWEIGHTS |
+                                                            aiComponent_ANIMATIONS | aiComponent_TEXTURES | aiComponent_LIGHTS |
                                                             aiComponent_CAMERAS | aiComponent_MATERIALS);
-    const aiScene* scene = importer.ReadFile(
-        path, aiProcess_RemoveComponent | aiProcess_PreTransformVertices | aiProcess_ValidateDataStructure);
+    const aiScene* scene =
+        importer.ReadFile(path, aiProcess_RemoveComponent | aiProcess_PreTransformVertices | aiProcess_ValidateDataStructure);
     if (scene) {
         // assimp's triangulation trusts each mesh's primitive flags and aborts
         // the process (an assertion) when a malformed file left them wrong:

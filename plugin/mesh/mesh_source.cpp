@@ -92,10 +92,18 @@ TriangleMesh makeMesh(const MeshSource& source, MeshLoadReport* report)
 {
     TriangleMesh mesh;
     switch (source.kind) {
-    case MeshSource::Kind::File: mesh = loadMesh(source.path, report); break;
-    case MeshSource::Kind::Terrain: mesh = makeTerrain(source.terrain); break;
-    case MeshSource::Kind::Sphere: mesh = makeSphere(source.sphere); break;
-    case MeshSource::Kind::Box: mesh = makeBox(source.box); break;
+    case MeshSource::Kind::File:
+        mesh = loadMesh(source.path, report);
+        break;
+    case MeshSource::Kind::Terrain:
+        mesh = makeTerrain(source.terrain);
+        break;
+    case MeshSource::Kind::Sphere:
+        mesh = makeSphere(source.sphere);
+        break;
+    case MeshSource::Kind::Box:
+        mesh = makeBox(source.box);
+        break;
     }
     if (source.tessellateEdge > 0) mesh = tessellate(mesh, source.tessellateEdge);
     return mesh;

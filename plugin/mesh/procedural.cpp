@@ -45,7 +45,10 @@ private:
     int hash(int x, int y) const { return mPermutation[(mPermutation[x & 255] + y) & 255]; }
     static double gradient(int h, double x, double y)
     {
-        static constexpr double kDirections[8][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1},
+        static constexpr double kDirections[8][2] = {{1, 0},
+                                                     {-1, 0},
+                                                     {0, 1},
+                                                     {0, -1},
                                                      {0.7071067811865476, 0.7071067811865476},
                                                      {-0.7071067811865476, 0.7071067811865476},
                                                      {0.7071067811865476, -0.7071067811865476},
@@ -59,8 +62,7 @@ private:
 Vec2d catmullRom(const Vec2d& p0, const Vec2d& p1, const Vec2d& p2, const Vec2d& p3, double t)
 {
     const double t2 = t * t, t3 = t2 * t;
-    return 0.5 * ((2.0 * p1) + (p2 - p0) * t + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t2 +
-                  (3.0 * p1 - p0 - 3.0 * p2 + p3) * t3);
+    return 0.5 * ((2.0 * p1) + (p2 - p0) * t + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t2 + (3.0 * p1 - p0 - 3.0 * p2 + p3) * t3);
 }
 
 /// The carve's path as a dense polyline (a smooth curve through 3+ points).
@@ -72,7 +74,8 @@ std::vector<Vec2d> samplePath(const std::vector<Vec2d>& path)
     for (std::size_t i = 0; i + 1 < path.size(); ++i) {
         const Vec2d& p0 = path[i == 0 ? 0 : i - 1];
         const Vec2d& p3 = path[std::min(i + 2, path.size() - 1)];
-        for (int s = 0; s < kSamplesPerSpan; ++s) dense.push_back(catmullRom(p0, path[i], path[i + 1], p3, double(s) / kSamplesPerSpan));
+        for (int s = 0; s < kSamplesPerSpan; ++s)
+            dense.push_back(catmullRom(p0, path[i], path[i + 1], p3, double(s) / kSamplesPerSpan));
     }
     dense.push_back(path.back());
     return dense;
@@ -110,8 +113,8 @@ void validate(const TerrainOptions& o)
 {
     require(o.sizeX > 0 && o.sizeZ > 0, "terrain size must be positive");
     require(o.cellsX >= 1 && o.cellsZ >= 1, "terrain cells must be at least 1");
-    require(double(o.cellsX) * o.cellsZ <= 64e6, "terrain cells: at most 64 million (" + std::to_string(o.cellsX) +
-                                                     " x " + std::to_string(o.cellsZ) + " asked)");
+    require(double(o.cellsX) * o.cellsZ <= 64e6,
+            "terrain cells: at most 64 million (" + std::to_string(o.cellsX) + " x " + std::to_string(o.cellsZ) + " asked)");
     require(o.amplitude >= 0, "terrain amplitude must not be negative");
     require(o.featureSize > 0, "terrain featureSize must be positive");
     require(o.octaves >= 1 && o.octaves <= 16, "terrain octaves must be within 1..16");
@@ -229,12 +232,12 @@ TriangleMesh makeSphere(const SphereOptions& o)
     // Icosahedron, then each subdivision splits a triangle into four, with
     // shared midpoints so the result stays closed.
     const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-    std::vector<Vec3d> unit = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                               {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+    std::vector<Vec3d> unit = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                               {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
     for (Vec3d& p : unit) p.normalize();
-    std::vector<Vec3ui> faces = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                                 {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
-                                 {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+    std::vector<Vec3ui> faces = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                                 {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+                                 {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
     for (int level = 0; level < o.subdivisions; ++level) {
         std::map<std::pair<uint32_t, uint32_t>, uint32_t> midpointOf;
         const auto midpoint = [&](uint32_t a, uint32_t b) {

@@ -28,9 +28,7 @@ bool refineOnce(TriangleMesh& mesh, double maxLengthSqr)
         if (inserted) mesh.points.emplace_back((pa + pb) * 0.5);
         return it->second;
     };
-    const auto distanceSqr = [&](uint32_t a, uint32_t b) {
-        return (Vec3d(mesh.points[a]) - Vec3d(mesh.points[b])).lengthSqr();
-    };
+    const auto distanceSqr = [&](uint32_t a, uint32_t b) { return (Vec3d(mesh.points[a]) - Vec3d(mesh.points[b])).lengthSqr(); };
 
     std::vector<Vec3ui> refined;
     refined.reserve(mesh.triangles.size() * 2);

@@ -13,7 +13,9 @@ namespace vfield {
 
 struct CloudVolume::EmptySpaceSkipper {
     using Intersector = openvdb::tools::VolumeRayIntersector<openvdb::FloatGrid>;
-    explicit EmptySpaceSkipper(const openvdb::FloatGrid& grid) : master(grid, /*dilation for trilinear reads=*/1), perThread(master) {}
+    explicit EmptySpaceSkipper(const openvdb::FloatGrid& grid)
+        : master(grid, /*dilation for trilinear reads=*/1), perThread(master)
+    {}
     Intersector master;
     tbb::enumerable_thread_specific<Intersector> perThread; ///< copies share the master's tree
 };
@@ -165,8 +167,8 @@ CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, d
             // In-scattered light of the step, integrated exactly for constant density:
             // (1 - e^(-sigma_t dt)) * albedo * source. The sky lights the cloud
             // through the cloud above it, so bases darken and tops stay bright.
-            const Vec3d source = sunScatter * std::clamp(double(sunT), 0.0, 1.0) +
-                                 skyRadiance * std::clamp(double(skyT), 0.0, 1.0);
+            const Vec3d source =
+                sunScatter * std::clamp(double(sunT), 0.0, 1.0) + skyRadiance * std::clamp(double(skyT), 0.0, 1.0);
             segment.radiance += segment.transmittance * (1.0 - stepTransmittance) * mAlbedo * source;
             segment.transmittance *= stepTransmittance;
             if (segment.transmittance < 1e-3) segment.transmittance = 0.0;

@@ -17,8 +17,7 @@ class SampleRandom {
 public:
     SampleRandom(uint32_t frame, uint32_t pixel, uint32_t sample)
         : mState(hash(hash(hash(frame) ^ pixel) ^ (uint64_t(sample) << 32)))
-    {
-    }
+    {}
     double next() { return double(hash(mState++) >> 11) * (1.0 / 9007199254740992.0); }
 
 private:
@@ -78,8 +77,8 @@ RenderImage renderFrame(const FrameToRender& f)
                     const double jy = f.samplesPerPixel == 1 ? 0.5 : random.next();
                     const Vec3d dir = f.camera.direction(x + jx, y + jy);
                     SurfaceHit hit;
-                    const bool isSurface = f.surfaces->intersect(f.camera.position(), dir, 0.0,
-                                                                 std::numeric_limits<double>::max(), hit);
+                    const bool isSurface =
+                        f.surfaces->intersect(f.camera.position(), dir, 0.0, std::numeric_limits<double>::max(), hit);
                     Vec3d radiance = isSurface ? shadeSurface(hit) : skyRadiance(s, dir);
                     double opacity = isSurface ? 1.0 : 0.0;
                     if (f.volume) {

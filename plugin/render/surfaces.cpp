@@ -22,7 +22,8 @@ struct MeshBvh {
 void checkDevice(RTCDevice device, const char* what)
 {
     const RTCError error = rtcGetDeviceError(device);
-    if (error != RTC_ERROR_NONE) throw Error(std::string("Embree failed to ") + what + " (error " + std::to_string(int(error)) + ")");
+    if (error != RTC_ERROR_NONE)
+        throw Error(std::string("Embree failed to ") + what + " (error " + std::to_string(int(error)) + ")");
 }
 
 MeshBvh buildBvh(RTCDevice device, const TriangleMesh& mesh, RTCBuildQuality quality)
@@ -32,8 +33,8 @@ MeshBvh buildBvh(RTCDevice device, const TriangleMesh& mesh, RTCBuildQuality qua
     bvh.scene = rtcNewScene(device);
     rtcSetSceneBuildQuality(bvh.scene, quality);
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                                 3 * sizeof(float), mesh.points.size()));
+    auto* vertices = static_cast<float*>(
+        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.points.size()));
     auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                                    3 * sizeof(unsigned), mesh.triangleCount()));
     checkDevice(device, "allocate a mesh");
@@ -61,9 +62,9 @@ void toEmbree(const Transform& t, float out[12])
 
 struct SurfaceScene::Impl {
     RTCDevice device = nullptr;
-    RTCScene top = nullptr;                 ///< instances of the static BVH and of each dynamic mesh
-    TriangleMesh staticMesh;                ///< world space, all static meshes
-    std::vector<int> staticObjectOf;        ///< per static triangle: its object
+    RTCScene top = nullptr;          ///< instances of the static BVH and of each dynamic mesh
+    TriangleMesh staticMesh;         ///< world space, all static meshes
+    std::vector<int> staticObjectOf; ///< per static triangle: its object
     MeshBvh staticBvh;
     bool staticBuilt = false;
     struct Dynamic {
@@ -72,7 +73,7 @@ struct SurfaceScene::Impl {
         RTCGeometry instance = nullptr;
         Transform pose;
     };
-    std::vector<Dynamic> dynamics;          ///< instance id = index + 1 (0 is the static one)
+    std::vector<Dynamic> dynamics; ///< instance id = index + 1 (0 is the static one)
     RTCGeometry staticInstance = nullptr;
 
     /// The scene rays are traced in: with no dynamic meshes, the static BVH
@@ -179,9 +180,11 @@ bool SurfaceScene::intersect(const Vec3d& origin, const Vec3d& dir, double tMin,
     const Transform* pose = instance == 0 ? nullptr : &mImpl->dynamics[instance - 1].pose;
     // Smooth normal from the corners' normals (object space), then into the world.
     RTCGeometry geometry = rtcGetGeometry(bvh.scene, 0);
-    const auto* index = static_cast<const unsigned*>(rtcGetGeometryBufferData(geometry, RTC_BUFFER_TYPE_INDEX, 0)) + 3 * rh.hit.primID;
+    const auto* index =
+        static_cast<const unsigned*>(rtcGetGeometryBufferData(geometry, RTC_BUFFER_TYPE_INDEX, 0)) + 3 * rh.hit.primID;
     const double u = rh.hit.u, v = rh.hit.v;
-    Vec3d shading = Vec3d(bvh.normals[index[0]]) * (1 - u - v) + Vec3d(bvh.normals[index[1]]) * u + Vec3d(bvh.normals[index[2]]) * v;
+    Vec3d shading =
+        Vec3d(bvh.normals[index[0]]) * (1 - u - v) + Vec3d(bvh.normals[index[1]]) * u + Vec3d(bvh.normals[index[2]]) * v;
     Vec3d geometric(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z); // object space of the instance
     if (pose) {
         shading = pose->rotateToWorld(shading);

@@ -1,8 +1,8 @@
 #include <vfield/scene/render_run.h>
 
+#include <vfield/core/atomic_file.h>
 #include <vfield/core/error.h>
 #include <vfield/core/vdb_file.h>
-#include <vfield/core/atomic_file.h>
 #include <vfield/render/frame_image.h>
 #include <vfield/render/povray_runner.h>
 #include <vfield/render/povray_scene.h>
@@ -295,7 +295,8 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
             const auto povrayStart = std::chrono::steady_clock::now();
             if (!povray)
                 povray = std::make_unique<PovrayBackend>(scene, meshes, terrainHeights, (out / "povray-scene").string(), options);
-            povray->render(f, frame.camera, poses, *density, volume, frame.width, frame.height, frame.samplesPerPixel, povrayImage);
+            povray->render(f, frame.camera, poses, *density, volume, frame.width, frame.height, frame.samplesPerPixel,
+                           povrayImage);
             povraySeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - povrayStart).count();
         }
         if (both) writeSideBySide(((out / "embree") / frameFileName("frame", f, "png")).string(), povrayImage, sideBySide);

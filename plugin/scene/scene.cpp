@@ -29,8 +29,8 @@ void checkVolumeSize(const Scene& scene, const JsonValue& where)
         const double voxel = scene.volume.voxelSize > 0 ? scene.volume.voxelSize : cloud.particleRadius;
         const double voxels = 8.0 * cloud.radii[0] * cloud.radii[1] * cloud.radii[2] / (voxel * voxel * voxel);
         if (voxels > kMaxVoxels)
-            where.fail("cloud \"" + cloud.name + "\" would fill about " + std::to_string(uint64_t(voxels)) +
-                       " voxels of size " + std::to_string(voxel) + " (at most 2e9): raise volume.voxelSize");
+            where.fail("cloud \"" + cloud.name + "\" would fill about " + std::to_string(uint64_t(voxels)) + " voxels of size " +
+                       std::to_string(voxel) + " (at most 2e9): raise volume.voxelSize");
     }
 }
 

@@ -192,7 +192,8 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
         SavedRun saved = decode(readFile(statePath), statePath);
         if (saved.sceneHash == scene.simulationHash) {
             simulator.restoreState(saved.simulatorState);
-            if (simulator.frame() > writeLast) throw ValueError("the output folder already holds frames up to " + std::to_string(simulator.frame()));
+            if (simulator.frame() > writeLast)
+                throw ValueError("the output folder already holds frames up to " + std::to_string(simulator.frame()));
             run = std::move(saved);
             summary.resumedAfterFrame = simulator.frame();
         } else {

@@ -116,9 +116,8 @@ SimulationOptions simulationOptionsFromJson(const JsonValue& json)
 {
     JsonObject o(json);
     SimulationOptions s;
-    s.sampling = o.choice("sampling", "nearest", {"nearest", "trilinear"}) == "nearest"
-                     ? SimulationOptions::Sampling::Nearest
-                     : SimulationOptions::Sampling::Trilinear;
+    s.sampling = o.choice("sampling", "nearest", {"nearest", "trilinear"}) == "nearest" ? SimulationOptions::Sampling::Nearest
+                                                                                        : SimulationOptions::Sampling::Trilinear;
     s.cfl = o.number("cfl", s.cfl, 1e-3, 1.0);
     if (const auto domain = o.find("domain")) s.domain = boxFromJson(*domain);
     o.finish();

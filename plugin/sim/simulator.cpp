@@ -88,8 +88,8 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
     int64_t total = 0;
     for (const CloudSpec& c : setup.clouds) total += c.count;
     if (total > kMaxParticles)
-        throw ValueError("the clouds ask for " + std::to_string(total) + " particles (at most " +
-                         std::to_string(kMaxParticles) + ")");
+        throw ValueError("the clouds ask for " + std::to_string(total) + " particles (at most " + std::to_string(kMaxParticles) +
+                         ")");
 
     // Meshes and fields, objects in parallel (each build is parallel too).
     mObjects.resize(mSetup.objects.size());
@@ -177,8 +177,7 @@ Vec3d Simulator::repulsion(const Vec3d& p, double time, openvdb::Vec3SGrid::Cons
         openvdb::Vec3s f;
         if (mSetup.options.sampling == SimulationOptions::Sampling::Nearest)
             openvdb::tools::PointSampler::sample(accessors[k], index, f);
-        else
-            openvdb::tools::BoxSampler::sample(accessors[k], index, f);
+        else openvdb::tools::BoxSampler::sample(accessors[k], index, f);
         force += rotated ? pose.rotateToWorld(Vec3d(f)) : Vec3d(f);
     }
     return force;

@@ -84,7 +84,8 @@ DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& o
     // is plain arithmetic, with no tree lookups. Each voxel's sum still runs
     // over the particles in order, so the sums are those of voxel-by-voxel
     // accumulation. A chunk whose box is too large is halved, in order.
-    const std::function<void(std::size_t, std::size_t, Splat&)> splatRange = [&](std::size_t first, std::size_t last, Splat& into) {
+    const std::function<void(std::size_t, std::size_t, Splat&)> splatRange = [&](std::size_t first, std::size_t last,
+                                                                                 Splat& into) {
         openvdb::CoordBBox box;
         for (std::size_t n = first; n != last; ++n)
             box.expand(openvdb::Coord::round(transform->worldToIndex(Vec3d(particles.position[order[n]]))));

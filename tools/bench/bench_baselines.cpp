@@ -9,10 +9,10 @@
 
 #include "bench_showcase.h"
 
+#include <vfield/core/atomic_file.h>
 #include <vfield/render/df3.h>
 #include <vfield/render/povray_runner.h>
 #include <vfield/render/povray_scene.h>
-#include <vfield/core/atomic_file.h>
 
 #include <benchmark/benchmark.h>
 
@@ -39,10 +39,10 @@ struct RawEmbree {
     explicit RawEmbree(const TriangleMesh& mesh)
     {
         RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mesh.points.data(), 0,
-                                   sizeof(Vec3f), mesh.points.size());
-        rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.triangles.data(), 0,
-                                   sizeof(Vec3ui), mesh.triangles.size());
+        rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, mesh.points.data(), 0, sizeof(Vec3f),
+                                   mesh.points.size());
+        rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.triangles.data(), 0, sizeof(Vec3ui),
+                                   mesh.triangles.size());
         rtcCommitGeometry(geometry);
         rtcAttachGeometry(scene, geometry);
         rtcReleaseGeometry(geometry);
@@ -105,8 +105,10 @@ void BM_RawEmbreeRays(benchmark::State& state)
 }
 BENCHMARK(BM_RawEmbreeRays)
     ->ArgNames({"w", "h"})
-    ->Args({640, 360})->Args({1280, 720})
-    ->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Args({640, 360})
+    ->Args({1280, 720})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 /// One explicit Euler step of every particle through the trilinearly sampled
 /// static force grid, gravity, wind and drag: the least an advection step can do.
@@ -121,23 +123,27 @@ void BM_RawSamplerAdvection(benchmark::State& state)
     const Vec3f uniform(15.0f, -9.81f, 0.0f);
     const float drag = 0.4f, dt = 1.0f / 240.0f;
     for (auto _ : state) {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, position.size(), 4096), [&](const tbb::blocked_range<std::size_t>& r) {
-            const openvdb::tools::GridSampler<openvdb::Vec3SGrid::ConstAccessor, openvdb::tools::BoxSampler> sampler(
-                force.getConstAccessor(), force.transform());
-            for (std::size_t p = r.begin(); p != r.end(); ++p) {
-                const Vec3f a = sampler.wsSample(Vec3d(position[p])) + uniform - velocity[p] * drag;
-                velocity[p] += a * dt;
-                position[p] += velocity[p] * dt;
-            }
-        });
+        tbb::parallel_for(
+            tbb::blocked_range<std::size_t>(0, position.size(), 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+                const openvdb::tools::GridSampler<openvdb::Vec3SGrid::ConstAccessor, openvdb::tools::BoxSampler> sampler(
+                    force.getConstAccessor(), force.transform());
+                for (std::size_t p = r.begin(); p != r.end(); ++p) {
+                    const Vec3f a = sampler.wsSample(Vec3d(position[p])) + uniform - velocity[p] * drag;
+                    velocity[p] += a * dt;
+                    position[p] += velocity[p] * dt;
+                }
+            });
     }
     state.counters["particle_steps_per_s"] =
         benchmark::Counter(double(position.size()), benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_RawSamplerAdvection)
     ->ArgNames({"particles", "threads"})
-    ->Args({50'000, 2})->Args({1'000'000, 1})->Args({1'000'000, 2})
-    ->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Args({50'000, 2})
+    ->Args({1'000'000, 1})
+    ->Args({1'000'000, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 /// vfield's POV-Ray back-end on the showcase's frame 100: df3 export, scene
 /// text and a povray run, at the settings of BM_RenderCloud's first case.
@@ -152,8 +158,8 @@ void BM_PovrayFrame(benchmark::State& state)
     const std::string dir = (std::filesystem::temp_directory_path() / "vfield-bench-povray").string();
     std::filesystem::create_directories(dir);
     writeTextAtomically(dir + "/meshes.inc",
-                        povrayMeshesText({{0, &s.terrain, SurfaceMaterial::Terrain, Transform{}}}, s.surfaces.staticBounds().min()[1],
-                                         s.surfaces.staticBounds().max()[1]));
+                        povrayMeshesText({{0, &s.terrain, SurfaceMaterial::Terrain, Transform{}}},
+                                         s.surfaces.staticBounds().min()[1], s.surfaces.staticBounds().max()[1]));
     PovrayOptions options;
     options.width = width;
     options.height = height;
@@ -181,6 +187,8 @@ void BM_PovrayFrame(benchmark::State& state)
 BENCHMARK(BM_PovrayFrame)
     ->ArgNames({"w", "h", "spp"})
     ->Args({320, 180, 1})
-    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1);
 
 } // namespace

@@ -41,8 +41,14 @@ void BM_OctreeBuild(benchmark::State& state)
     state.SetItemsProcessed(state.iterations() * int64_t(mesh.triangleCount()));
     state.counters["triangles"] = double(mesh.triangleCount());
 }
-BENCHMARK(BM_OctreeBuild)->Arg(100'000)->Arg(200'000)->Arg(400'000)->Arg(800'000)->Arg(1'000'000)
-    ->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_OctreeBuild)
+    ->Arg(100'000)
+    ->Arg(200'000)
+    ->Arg(400'000)
+    ->Arg(800'000)
+    ->Arg(1'000'000)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 void BM_PointQueries(benchmark::State& state)
 {

@@ -15,15 +15,21 @@ void BM_RenderSurfaces(benchmark::State& state)
     ShowcaseFrame& s = showcase();
     const FrameToRender frame = s.frame(int(state.range(0)), int(state.range(1)), int(state.range(2)), nullptr);
     for (auto _ : state) benchmark::DoNotOptimize(renderFrame(frame));
-    state.counters["primary_rays_per_s"] =
-        benchmark::Counter(double(state.range(0) * state.range(1) * state.range(2)), benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["primary_rays_per_s"] = benchmark::Counter(double(state.range(0) * state.range(1) * state.range(2)),
+                                                              benchmark::Counter::kIsIterationInvariantRate);
 }
 // Pixels doubled three times from 320x180, and the showcase's sizes.
 BENCHMARK(BM_RenderSurfaces)
     ->ArgNames({"w", "h", "spp"})
-    ->Args({320, 180, 1})->Args({452, 254, 1})->Args({640, 360, 1})->Args({905, 509, 1})
-    ->Args({640, 360, 4})->Args({1280, 720, 1})->Args({1280, 720, 4})
-    ->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Args({320, 180, 1})
+    ->Args({452, 254, 1})
+    ->Args({640, 360, 1})
+    ->Args({905, 509, 1})
+    ->Args({640, 360, 4})
+    ->Args({1280, 720, 1})
+    ->Args({1280, 720, 4})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 /// A whole cloud frame: the volume's light grids are built every iteration, as per frame.
 void BM_RenderCloud(benchmark::State& state)
@@ -38,7 +44,13 @@ void BM_RenderCloud(benchmark::State& state)
 }
 BENCHMARK(BM_RenderCloud)
     ->ArgNames({"w", "h", "spp", "skip"})
-    ->Args({320, 180, 1, 1})->Args({640, 360, 1, 0})->Args({640, 360, 1, 1})->Args({640, 360, 4, 1})->Args({1280, 720, 1, 1})->Args({1280, 720, 4, 1})
-    ->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Args({320, 180, 1, 1})
+    ->Args({640, 360, 1, 0})
+    ->Args({640, 360, 1, 1})
+    ->Args({640, 360, 4, 1})
+    ->Args({1280, 720, 1, 1})
+    ->Args({1280, 720, 4, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 } // namespace

@@ -9,7 +9,6 @@
 
 #include <tbb/global_control.h>
 
-
 using namespace vfield;
 using namespace vfield::bench;
 
@@ -32,9 +31,15 @@ void BM_CloudFrame(benchmark::State& state)
 }
 BENCHMARK(BM_CloudFrame)
     ->ArgNames({"particles", "threads"})
-    ->Args({50'000, 1})->Args({50'000, 2})->Args({125'000, 2})->Args({250'000, 2})->Args({500'000, 2})
-    ->Args({1'000'000, 1})->Args({1'000'000, 2})
-    ->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Args({50'000, 1})
+    ->Args({50'000, 2})
+    ->Args({125'000, 2})
+    ->Args({250'000, 2})
+    ->Args({500'000, 2})
+    ->Args({1'000'000, 1})
+    ->Args({1'000'000, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 void BM_DensitySplat(benchmark::State& state)
 {
@@ -45,6 +50,14 @@ void BM_DensitySplat(benchmark::State& state)
     for (auto _ : state) benchmark::DoNotOptimize(splatParticles(simulator.particles(), scene.volume));
     state.SetItemsProcessed(state.iterations() * int64_t(simulator.particles().size()));
 }
-BENCHMARK(BM_DensitySplat)->ArgName("particles")->Arg(50'000)->Arg(125'000)->Arg(250'000)->Arg(500'000)->Arg(1'000'000)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_DensitySplat)
+    ->ArgName("particles")
+    ->Arg(50'000)
+    ->Arg(125'000)
+    ->Arg(250'000)
+    ->Arg(500'000)
+    ->Arg(1'000'000)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 } // namespace

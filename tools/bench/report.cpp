@@ -74,8 +74,8 @@ std::string format(const char* pattern, double value)
 /// "median (min-max) unit" with the pattern's precision.
 std::string spread(const Samples& s, const char* pattern, const std::string& unit, double scale = 1.0)
 {
-    return format(pattern, s.median() * scale) + " (" + format(pattern, s.min() * scale) + "-" + format(pattern, s.max() * scale) +
-           ") " + unit;
+    return format(pattern, s.median() * scale) + " (" + format(pattern, s.min() * scale) + "-" +
+           format(pattern, s.max() * scale) + ") " + unit;
 }
 
 void row(const std::vector<std::string>& cells)
@@ -107,21 +107,21 @@ int main(int argc, char** argv)
 
         row({"stage", "vfield", "baseline", "ratio", "target", ""});
         row({"---", "---", "---", "---", "---", "---"});
-        for (const auto& [size, label] : std::vector<std::pair<std::string, std::string>>{{"100000", "100k"}, {"1000000", "1M"}}) {
+        for (const auto& [size, label] :
+             std::vector<std::pair<std::string, std::string>>{{"100000", "100k"}, {"1000000", "1M"}}) {
             const std::string name = "BM_OctreeBuild/" + size;
             const double rate = r.counter(name, "items_per_second").median();
-            row({"octree build, " + label + " triangles",
-                 spread(r.time(name), "%.1f", "ms"), "", format("%.2f", rate / 1e6) + " M triangles/s",
-                 ">= 2 M/s", verdict(rate >= 2e6)});
+            row({"octree build, " + label + " triangles", spread(r.time(name), "%.1f", "ms"), "",
+                 format("%.2f", rate / 1e6) + " M triangles/s", ">= 2 M/s", verdict(rate >= 2e6)});
         }
         for (const char* threads : {"1", "2"}) {
             const std::string name = std::string("BM_PointQueries/threads:") + threads;
-            row({std::string("point queries, ") + threads + " thread(s)", spread(r.counter(name, "items_per_second"), "%.1f", "M/s", 1e-6),
-                 "", "", "", ""});
+            row({std::string("point queries, ") + threads + " thread(s)",
+                 spread(r.counter(name, "items_per_second"), "%.1f", "M/s", 1e-6), "", "", "", ""});
         }
         row({"voxelize the 1M-triangle field", spread(r.time("BM_Voxelize/1000000"), "%.1f", "ms"), "", "", "", ""});
-        for (const auto& [particles, threads] : std::vector<std::pair<std::string, std::string>>{
-                 {"50000", "2"}, {"1000000", "1"}, {"1000000", "2"}}) {
+        for (const auto& [particles, threads] :
+             std::vector<std::pair<std::string, std::string>>{{"50000", "2"}, {"1000000", "1"}, {"1000000", "2"}}) {
             const std::string ours = "BM_CloudFrame/particles:" + particles + "/threads:" + threads;
             const std::string raw = "BM_RawSamplerAdvection/particles:" + particles + "/threads:" + threads;
             const Samples& rate = r.counter(ours, "particle_steps_per_s");
@@ -153,7 +153,8 @@ int main(int argc, char** argv)
                  format("%.0f", ratio) + "x faster", ">= 20x", verdict(ratio >= 20.0)});
         }
 
-        std::cout << "\nScaling: the input doubled three times; each step's cost ratio (n log n gives a little over 2, linear 2).\n\n";
+        std::cout
+            << "\nScaling: the input doubled three times; each step's cost ratio (n log n gives a little over 2, linear 2).\n\n";
         row({"stage", "sizes", "median times", "growth per doubling"});
         row({"---", "---", "---", "---"});
         const auto scaling = [&](const std::string& stage, const std::vector<std::string>& names, const std::string& sizes) {
@@ -165,7 +166,8 @@ int main(int argc, char** argv)
             }
             row({stage, sizes, times + " ms", growth});
         };
-        scaling("octree build", {"BM_OctreeBuild/100000", "BM_OctreeBuild/200000", "BM_OctreeBuild/400000", "BM_OctreeBuild/800000"},
+        scaling("octree build",
+                {"BM_OctreeBuild/100000", "BM_OctreeBuild/200000", "BM_OctreeBuild/400000", "BM_OctreeBuild/800000"},
                 "100k-800k triangles");
         scaling("advection (a frame, 2 threads)",
                 {"BM_CloudFrame/particles:125000/threads:2", "BM_CloudFrame/particles:250000/threads:2",
@@ -176,8 +178,8 @@ int main(int argc, char** argv)
                  "BM_DensitySplat/particles:1000000"},
                 "125k-1M particles");
         scaling("surfaces-only frame",
-                {"BM_RenderSurfaces/w:320/h:180/spp:1", "BM_RenderSurfaces/w:452/h:254/spp:1", "BM_RenderSurfaces/w:640/h:360/spp:1",
-                 "BM_RenderSurfaces/w:905/h:509/spp:1"},
+                {"BM_RenderSurfaces/w:320/h:180/spp:1", "BM_RenderSurfaces/w:452/h:254/spp:1",
+                 "BM_RenderSurfaces/w:640/h:360/spp:1", "BM_RenderSurfaces/w:905/h:509/spp:1"},
                 "320x180-905x509 pixels");
     } catch (const std::exception& e) {
         std::cerr << "vfield_bench_report: " << argv[1] << ": " << e.what() << "\n";

@@ -33,9 +33,8 @@ Runner registerBakeField(CLI::App& app, const GlobalOptions& global)
         const FieldGrids grids = voxelizeField(built.field, voxelize);
         writeVdb(o->output, grids.all());
         char line[256];
-        std::snprintf(line, sizeof line, "%s: force grid, voxel %.6g, %llu active voxels, %.1f MiB in memory",
-                      o->output.c_str(), grids.force->voxelSize()[0],
-                      static_cast<unsigned long long>(grids.force->activeVoxelCount()),
+        std::snprintf(line, sizeof line, "%s: force grid, voxel %.6g, %llu active voxels, %.1f MiB in memory", o->output.c_str(),
+                      grids.force->voxelSize()[0], static_cast<unsigned long long>(grids.force->activeVoxelCount()),
                       grids.force->memUsage() / 1048576.0);
         log(global, line);
     };

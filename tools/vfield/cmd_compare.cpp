@@ -39,7 +39,8 @@ int reportGrids(const std::string& a, const std::string& b, double tolerance)
     std::printf("Comparing \"%s\" and \"%s\" (tolerance %g)\n", a.c_str(), b.c_str(), tolerance);
     for (const GridDifference& g : c.grids) {
         if (g.comparedByHash)
-            std::printf("  %s (%s): %s\n", g.name.c_str(), g.type.c_str(), g.differing ? "contents differ" : "identical contents");
+            std::printf("  %s (%s): %s\n", g.name.c_str(), g.type.c_str(),
+                        g.differing ? "contents differ" : "identical contents");
         else
             std::printf("  %s (%s): %llu of %llu voxels differ, max difference %.6g\n", g.name.c_str(), g.type.c_str(),
                         (unsigned long long)g.differing, (unsigned long long)g.voxels, g.maxDifference);

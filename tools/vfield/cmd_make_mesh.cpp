@@ -11,8 +11,9 @@ namespace {
 
 void addVec3Option(CLI::App& command, const std::string& name, Vec3d& value, const std::string& help)
 {
-    command.add_option_function<std::vector<double>>(
-               name, [&value](const std::vector<double>& v) { value = Vec3d(v[0], v[1], v[2]); }, help)
+    command
+        .add_option_function<std::vector<double>>(
+            name, [&value](const std::vector<double>& v) { value = Vec3d(v[0], v[1], v[2]); }, help)
         ->expected(3)
         ->delimiter(',')
         ->default_str(std::to_string(value[0]) + "," + std::to_string(value[1]) + "," + std::to_string(value[2]));
@@ -41,12 +42,10 @@ Runner registerMakeMesh(CLI::App& app, const GlobalOptions& global)
     terrain->add_option("--cells-x", t.cellsX, "Grid cells along x")->capture_default_str();
     terrain->add_option("--cells-z", t.cellsZ, "Grid cells along z")->capture_default_str();
     terrain->add_option("--amplitude", t.amplitude, "Height of the noise, world units")->capture_default_str();
-    terrain->add_option("--feature-size", t.featureSize, "Wavelength of the coarsest octave, world units")
-        ->capture_default_str();
+    terrain->add_option("--feature-size", t.featureSize, "Wavelength of the coarsest octave, world units")->capture_default_str();
     terrain->add_option("--octaves", t.octaves, "Noise octaves")->capture_default_str();
     terrain->add_option("--roughness", t.roughness, "Amplitude ratio of successive octaves")->capture_default_str();
-    terrain->add_option("--base-thickness", t.baseThickness, "Depth of the solid below the lowest point")
-        ->capture_default_str();
+    terrain->add_option("--base-thickness", t.baseThickness, "Depth of the solid below the lowest point")->capture_default_str();
 
     CLI::App* sphere = command->add_subcommand("sphere", "Icosphere");
     addVec3Option(*sphere, "--center", o->sphere.center, "Centre x,y,z, world units");

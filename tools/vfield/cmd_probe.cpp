@@ -54,8 +54,8 @@ Runner registerProbe(CLI::App& app, const GlobalOptions& global)
         std::printf("x,y,z,fx,fy,fz,level,surface\n");
         for (const Vec3d& p : points) {
             const FieldSample s = built.field.sample(p);
-            std::printf("%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d,%d\n", p[0], p[1], p[2], s.force[0], s.force[1], s.force[2],
-                        s.level, s.isSurface ? 1 : 0);
+            std::printf("%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d,%d\n", p[0], p[1], p[2], s.force[0], s.force[1], s.force[2], s.level,
+                        s.isSurface ? 1 : 0);
         }
     };
 }

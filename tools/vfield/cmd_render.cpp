@@ -38,15 +38,14 @@ void addRenderOptions(CLI::App& command, RenderCliOptions& o)
         .add_option("--povray-threads", o.povrayThreads,
                     "POV-Ray's render threads; 1 makes its media noise reproducible [default: as --threads]")
         ->check(CLI::PositiveNumber);
-    command.add_option("--resolution", o.resolution, "Image size WxH [default: the scene's]")
-        ->check([](const std::string& text) {
-            int w = 0, h = 0;
-            char x = 0;
-            std::istringstream in(text);
-            return (in >> w >> x >> h) && x == 'x' && w > 0 && h > 0 && w <= 16384 && h <= 16384 && in.eof()
-                       ? std::string()
-                       : "expected WxH, e.g. 1280x720, got '" + text + "'";
-        });
+    command.add_option("--resolution", o.resolution, "Image size WxH [default: the scene's]")->check([](const std::string& text) {
+        int w = 0, h = 0;
+        char x = 0;
+        std::istringstream in(text);
+        return (in >> w >> x >> h) && x == 'x' && w > 0 && h > 0 && w <= 16384 && h <= 16384 && in.eof()
+                   ? std::string()
+                   : "expected WxH, e.g. 1280x720, got '" + text + "'";
+    });
     command.add_option("--spp", o.spp, "Samples per pixel [default: the scene's]")->check(CLI::Range(1, 65536));
     command.add_option("--format", o.formats, "png, exr or png,exr")
         ->check(CLI::IsMember({"png", "exr", "png,exr", "exr,png"}))

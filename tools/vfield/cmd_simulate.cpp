@@ -18,9 +18,8 @@ std::string describe(const ClearanceStats& c)
 {
     if (c.samples == 0) return "nothing measured";
     char text[160];
-    std::snprintf(text, sizeof text, "min %.4g, 1st percentile %.4g, %llu penetrations in %llu samples", c.minimum,
-                  c.percentile1, static_cast<unsigned long long>(c.penetrations),
-                  static_cast<unsigned long long>(c.samples));
+    std::snprintf(text, sizeof text, "min %.4g, 1st percentile %.4g, %llu penetrations in %llu samples", c.minimum, c.percentile1,
+                  static_cast<unsigned long long>(c.penetrations), static_cast<unsigned long long>(c.samples));
     return text;
 }
 
@@ -58,8 +57,7 @@ Runner registerSimulate(CLI::App& app, const GlobalOptions& global)
         };
         const SimulateSummary summary = simulateScene(scene, o->output, options);
         for (const std::string& warning : summary.warnings) log(global, "warning: " + warning);
-        if (summary.resumedAfterFrame >= 0)
-            log(global, "resumed after frame " + std::to_string(summary.resumedAfterFrame));
+        if (summary.resumedAfterFrame >= 0) log(global, "resumed after frame " + std::to_string(summary.resumedAfterFrame));
         log(global, "clearance of particles: " + describe(summary.worstParticles));
         log(global, "clearance of dynamic objects' vertices: " + describe(summary.worstDynamic));
     };

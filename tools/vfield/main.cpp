@@ -46,11 +46,16 @@ int main(int argc, char** argv)
     app.add_flag("-q,--quiet", global.quiet, "No progress or log lines on stderr");
 
     const std::map<std::string, Runner> runners = {
-        {"make-mesh", registerMakeMesh(app, global)},   {"probe", registerProbe(app, global)},
-        {"bake-field", registerBakeField(app, global)}, {"field-slice", registerFieldSlice(app, global)},
-        {"info", registerInfo(app, global)},             {"simulate", registerSimulate(app, global)},
-        {"export-mesh", registerExportMesh(app, global)}, {"render", registerRender(app, global)},
-        {"run", registerRun(app, global)},               {"compare", registerCompare(app, global)},
+        {"make-mesh", registerMakeMesh(app, global)},
+        {"probe", registerProbe(app, global)},
+        {"bake-field", registerBakeField(app, global)},
+        {"field-slice", registerFieldSlice(app, global)},
+        {"info", registerInfo(app, global)},
+        {"simulate", registerSimulate(app, global)},
+        {"export-mesh", registerExportMesh(app, global)},
+        {"render", registerRender(app, global)},
+        {"run", registerRun(app, global)},
+        {"compare", registerCompare(app, global)},
     };
 
     try {

@@ -24,8 +24,7 @@ class JsonObject;
 /// One JSON value and where it is. Cheap to copy (shares the document).
 class JsonValue {
 public:
-    JsonValue(std::shared_ptr<const nlohmann::json> document, const nlohmann::json* value, std::string file,
-              std::string pointer);
+    JsonValue(std::shared_ptr<const nlohmann::json> document, const nlohmann::json* value, std::string file, std::string pointer);
 
     const std::string& file() const { return mFile; }
     const std::string& pointer() const { return mPointer; } ///< "/clouds/0/count"; "/" for the root
@@ -40,7 +39,7 @@ public:
     bool isBool() const;
     bool isArray() const;
 
-    double asNumber() const;                     ///< any finite number
+    double asNumber() const;                       ///< any finite number
     double asNumber(double min, double max) const; ///< a finite number within [min, max]
     int64_t asInteger(int64_t min, int64_t max) const;
     bool asBool() const;

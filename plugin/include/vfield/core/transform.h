@@ -22,9 +22,9 @@ inline Vec3d rotate(const Quatd& q, const Vec3d& v)
 }
 
 struct Transform {
-    Vec3d translation{0.0, 0.0, 0.0};        ///< world units
-    Quatd rotation = Quatd::identity();     ///< unit quaternion
-    double scale = 1.0;                     ///< uniform, > 0
+    Vec3d translation{0.0, 0.0, 0.0};   ///< world units
+    Quatd rotation = Quatd::identity(); ///< unit quaternion
+    double scale = 1.0;                 ///< uniform, > 0
 
     /// From Euler angles in degrees: about x, then y, then z.
     static Quatd rotationFromDegrees(const Vec3d& degrees);

@@ -25,11 +25,11 @@ openvdb::GridPtrVec readVdb(const std::string& path);
 /// What `vfield info` prints of a grid.
 struct GridSummary {
     std::string name;
-    std::string type;        ///< OpenVDB's type name, e.g. "vec3s"
-    Vec3d voxelSize;         ///< world units
-    uint64_t activeVoxels;   ///< active voxels, tiles counted by their voxels
-    BBoxd worldBounds;       ///< world-space box of the active voxels (empty grid: empty box)
-    uint64_t memoryBytes;    ///< in-core size of the tree
+    std::string type;      ///< OpenVDB's type name, e.g. "vec3s"
+    Vec3d voxelSize;       ///< world units
+    uint64_t activeVoxels; ///< active voxels, tiles counted by their voxels
+    BBoxd worldBounds;     ///< world-space box of the active voxels (empty grid: empty box)
+    uint64_t memoryBytes;  ///< in-core size of the tree
 };
 GridSummary summarizeGrid(const openvdb::GridBase& grid);
 

@@ -31,8 +31,8 @@ struct VoxelizeOptions {
 
 struct FieldGrids {
     openvdb::Vec3SGrid::Ptr force;
-    openvdb::Int32Grid::Ptr level;  ///< null unless asked for
-    openvdb::BoolGrid::Ptr surface; ///< null unless asked for; active (true) in surface leaves only
+    openvdb::Int32Grid::Ptr level;   ///< null unless asked for
+    openvdb::BoolGrid::Ptr surface;  ///< null unless asked for; active (true) in surface leaves only
     openvdb::GridPtrVec all() const; ///< the grids that exist, for writing
 };
 

@@ -17,8 +17,8 @@
 namespace vfield {
 
 struct FieldSliceOptions {
-    int axis = 2;       ///< normal of the slice plane: 0 x, 1 y, 2 z
-    double at = 0.0;    ///< plane position along the axis, object units
+    int axis = 2;    ///< normal of the slice plane: 0 x, 1 y, 2 z
+    double at = 0.0; ///< plane position along the axis, object units
     /// Edge of the square picture of the root, pixels. 0: large enough that the
     /// finest cells are 12 pixels (within 1024..4096).
     int size = 0;

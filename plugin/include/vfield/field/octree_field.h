@@ -52,9 +52,9 @@ struct FieldSample {
 
 /// A leaf of the octree, for drawing and voxelizing.
 struct FieldLeaf {
-    BBoxd bounds;                  ///< object space
-    uint32_t origin[3];            ///< min corner in cells of the finest level present (depth())
-    uint32_t width;                ///< edge length in those cells (a power of two)
+    BBoxd bounds;       ///< object space
+    uint32_t origin[3]; ///< min corner in cells of the finest level present (depth())
+    uint32_t width;     ///< edge length in those cells (a power of two)
     Vec3f force;
     int level;
     bool isSurface;
@@ -78,10 +78,10 @@ public:
     /// among them. No hit, or directions that cancel: zero.
     Vec3d hitTest(const std::vector<Vec3d>& points) const;
 
-    const BBoxd& bounds() const { return mBounds; }       ///< the root cube, object space
+    const BBoxd& bounds() const { return mBounds; } ///< the root cube, object space
     double rootSide() const { return mSide; }
-    int depth() const { return mDepth; }                  ///< deepest level present
-    double cellSize(int level) const;                      ///< edge length of a node at level
+    int depth() const { return mDepth; } ///< deepest level present
+    double cellSize(int level) const;    ///< edge length of a node at level
     double finestCellSize() const { return cellSize(mDepth); }
     std::size_t leafCount() const { return mLeafCount; }
     std::size_t nodeCount() const { return mNodes.size(); }
@@ -99,7 +99,7 @@ public:
 
     /// Internal node record (public for the builder; not part of the API).
     struct Node {
-        uint32_t firstChild = 0; ///< index of the first of 8 children; 0 for a leaf
+        uint32_t firstChild = 0;           ///< index of the first of 8 children; 0 for a leaf
         Vec3f direction{0.0f, 0.0f, 0.0f}; ///< unit or zero (leaves only after build)
         uint8_t level = 0;
         uint8_t isSurface = 0;

@@ -12,14 +12,14 @@ namespace vfield {
 
 struct GridDifference {
     std::string name, type;
-    uint64_t voxels = 0;      ///< active in either file
-    uint64_t differing = 0;   ///< of those, differing by more than the tolerance (or active in one file only)
-    double maxDifference = 0; ///< largest absolute difference (vector length for vector grids)
+    uint64_t voxels = 0;         ///< active in either file
+    uint64_t differing = 0;      ///< of those, differing by more than the tolerance (or active in one file only)
+    double maxDifference = 0;    ///< largest absolute difference (vector length for vector grids)
     bool comparedByHash = false; ///< a grid type compared only for exact equality
 };
 
 struct GridComparison {
-    std::vector<GridDifference> grids;     ///< the grids both files hold
+    std::vector<GridDifference> grids;         ///< the grids both files hold
     std::vector<std::string> onlyInA, onlyInB; ///< grid names in one file only
     bool equal() const;
 };

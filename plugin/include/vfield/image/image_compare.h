@@ -15,8 +15,8 @@
 namespace vfield {
 
 struct ImageCompareOptions {
-    double failThreshold = 1e-6; ///< per-channel difference (pixel values in [0, 1])
-    double failPercent = 0.0;    ///< % of pixels allowed over failThreshold
+    double failThreshold = 1e-6;                               ///< per-channel difference (pixel values in [0, 1])
+    double failPercent = 0.0;                                  ///< % of pixels allowed over failThreshold
     double hardFail = std::numeric_limits<double>::infinity(); ///< no difference may exceed this
     double warnThreshold = 1e-6;
     double warnPercent = 0.0;
@@ -29,7 +29,7 @@ enum class CompareVerdict { Pass, Warn, Fail };
 
 struct ImageComparison {
     CompareVerdict verdict = CompareVerdict::Pass;
-    std::string sizeMismatch;    ///< "320x180 vs 160x90" when the sizes differ (then no statistics)
+    std::string sizeMismatch; ///< "320x180 vs 160x90" when the sizes differ (then no statistics)
     double meanError = 0.0, rmsError = 0.0, psnr = 0.0, maxError = 0.0;
     int maxX = 0, maxY = 0, maxChannel = 0; ///< where the largest difference is
     long long pixels = 0, pixelsOverFail = 0, pixelsOverWarn = 0;

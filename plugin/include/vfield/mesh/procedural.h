@@ -15,9 +15,9 @@ namespace vfield {
 /// in the ground plane. A path of three or more points is followed as a smooth
 /// Catmull-Rom curve, so a few points describe a winding canyon.
 struct TerrainCarve {
-    std::vector<Vec2d> path;  ///< (x, z) points, world units; at least two
-    double halfWidth = 10.0;  ///< distance from the path at which the cut ends, world units (> 0)
-    double depth = 10.0;      ///< how far the path's centre line is lowered, world units (< 0 raises a ridge)
+    std::vector<Vec2d> path;    ///< (x, z) points, world units; at least two
+    double halfWidth = 10.0;    ///< distance from the path at which the cut ends, world units (> 0)
+    double depth = 10.0;        ///< how far the path's centre line is lowered, world units (< 0 raises a ridge)
     double wallSharpness = 1.0; ///< profile shape: 1 a smooth valley, larger values steeper walls and a flatter floor (>= 1)
 };
 
@@ -26,16 +26,16 @@ struct TerrainCarve {
 /// The solid is the surface, four vertical skirts and a bottom plane
 /// `baseThickness` below the lowest surface point.
 struct TerrainOptions {
-    uint64_t seed = 1;          ///< noise seed; the same seed gives the same terrain on every machine
-    double sizeX = 200.0;       ///< extent along x, world units (> 0)
-    double sizeZ = 200.0;       ///< extent along z, world units (> 0)
-    int cellsX = 128;           ///< grid cells along x (>= 1); the surface has 2 * cellsX * cellsZ triangles
-    int cellsZ = 128;           ///< grid cells along z (>= 1)
-    double amplitude = 30.0;    ///< height of the noise, world units (>= 0); heights span about [0, amplitude]
-    double featureSize = 80.0;  ///< wavelength of the coarsest noise octave, world units (> 0)
-    int octaves = 5;            ///< noise octaves (1..16)
-    double roughness = 0.5;     ///< amplitude ratio of successive octaves (0..1)
-    double baseThickness = 10.0; ///< depth of the solid below the lowest surface point, world units (> 0)
+    uint64_t seed = 1;                ///< noise seed; the same seed gives the same terrain on every machine
+    double sizeX = 200.0;             ///< extent along x, world units (> 0)
+    double sizeZ = 200.0;             ///< extent along z, world units (> 0)
+    int cellsX = 128;                 ///< grid cells along x (>= 1); the surface has 2 * cellsX * cellsZ triangles
+    int cellsZ = 128;                 ///< grid cells along z (>= 1)
+    double amplitude = 30.0;          ///< height of the noise, world units (>= 0); heights span about [0, amplitude]
+    double featureSize = 80.0;        ///< wavelength of the coarsest noise octave, world units (> 0)
+    int octaves = 5;                  ///< noise octaves (1..16)
+    double roughness = 0.5;           ///< amplitude ratio of successive octaves (0..1)
+    double baseThickness = 10.0;      ///< depth of the solid below the lowest surface point, world units (> 0)
     std::vector<TerrainCarve> carves; ///< valleys, canyons and ridges, applied in order
 };
 
@@ -47,8 +47,8 @@ TriangleMesh makeTerrain(const TerrainOptions& options);
 
 struct SphereOptions {
     Vec3d center{0.0, 0.0, 0.0}; ///< world units
-    double radius = 1.0;          ///< world units (> 0)
-    int subdivisions = 3;         ///< icosahedron subdivisions (0..8): 20 * 4^n triangles
+    double radius = 1.0;         ///< world units (> 0)
+    int subdivisions = 3;        ///< icosahedron subdivisions (0..8): 20 * 4^n triangles
 };
 TriangleMesh makeSphere(const SphereOptions& options);
 

@@ -45,9 +45,9 @@ void mergeIdenticalPoints(TriangleMesh& mesh);
 
 /// Edge structure of a mesh: whether it bounds a solid with a defined inside.
 struct MeshTopology {
-    std::size_t boundaryEdges = 0;      ///< edges used by one triangle only (holes)
-    std::size_t nonManifoldEdges = 0;   ///< edges used by three or more triangles
-    std::size_t misorientedEdges = 0;   ///< edges two triangles traverse in the same direction
+    std::size_t boundaryEdges = 0;    ///< edges used by one triangle only (holes)
+    std::size_t nonManifoldEdges = 0; ///< edges used by three or more triangles
+    std::size_t misorientedEdges = 0; ///< edges two triangles traverse in the same direction
     bool isClosed() const { return boundaryEdges == 0 && nonManifoldEdges == 0 && misorientedEdges == 0; }
 };
 MeshTopology analyzeTopology(const TriangleMesh& mesh);

@@ -36,14 +36,14 @@ public:
     const BBoxd& bounds() const { return mBounds; }
 
     struct Segment {
-        Vec3d radiance{0.0};       ///< light scattered towards the ray's origin
+        Vec3d radiance{0.0};        ///< light scattered towards the ray's origin
         double transmittance = 1.0; ///< of the segment
     };
     /// Integrates origin + t dir (dir unit) for t in [tMin, tMax) in steps of
     /// volumeStep, each sampled at jitter (in [0, 1)) of its length.
     /// sunRadiance and skyRadiance light it.
-    Segment march(const Vec3d& origin, const Vec3d& dir, double tMin, double tMax, double jitter,
-                  const Vec3d& sunRadiance, const Vec3d& skyRadiance) const;
+    Segment march(const Vec3d& origin, const Vec3d& dir, double tMin, double tMax, double jitter, const Vec3d& sunRadiance,
+                  const Vec3d& skyRadiance) const;
 
     /// Transmittance of the cloud from p towards the sun (1 where no cloud is in the way).
     double sunTransmittance(const Vec3d& p) const;
@@ -61,8 +61,8 @@ private:
     openvdb::FloatGrid::Ptr transmittanceGrid(const Vec3d& towards, const SurfaceScene* occluders) const;
 
     openvdb::FloatGrid::Ptr mSunTransmittance, mSkyTransmittance; ///< share one transform
-    struct EmptySpaceSkipper; ///< OpenVDB's VolumeRayIntersector, one copy per thread
-    std::shared_ptr<EmptySpaceSkipper> mSkipper;   ///< null: march the whole box
+    struct EmptySpaceSkipper;                                     ///< OpenVDB's VolumeRayIntersector, one copy per thread
+    std::shared_ptr<EmptySpaceSkipper> mSkipper;                  ///< null: march the whole box
     BBoxd mBounds;
     Vec3d mToSun;
     double mExtinction, mAlbedo, mAnisotropy, mStep;

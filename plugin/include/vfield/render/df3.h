@@ -16,9 +16,9 @@
 namespace vfield {
 
 struct Df3Placement {
-    BBoxd worldBounds;        ///< the unit cube of the file, in world space
-    double densityScale = 0;  ///< density = value / 65535 * densityScale (0 for an empty grid)
-    double cellSize = 0;      ///< world units per sample along each axis
+    BBoxd worldBounds;       ///< the unit cube of the file, in world space
+    double densityScale = 0; ///< density = value / 65535 * densityScale (0 for an empty grid)
+    double cellSize = 0;     ///< world units per sample along each axis
 };
 
 struct Df3Volume {

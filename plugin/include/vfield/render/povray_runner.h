@@ -10,7 +10,7 @@
 namespace vfield {
 
 struct PovrayOptions {
-    int width = 640, height = 360;  ///< pixels
+    int width = 640, height = 360; ///< pixels
     /// 1: one ray through each pixel's centre; more: n x n supersampling of
     /// every pixel with n = round(sqrt(samplesPerPixel)), at most 9.
     int samplesPerPixel = 4;

@@ -34,7 +34,7 @@
 namespace vfield {
 
 struct PovrayMesh {
-    int object = -1;                    ///< declared as VF_Object_<object>
+    int object = -1; ///< declared as VF_Object_<object>
     const TriangleMesh* mesh = nullptr;
     SurfaceMaterial material = SurfaceMaterial::Painted;
     /// Static meshes are written in world space (placement x mesh); dynamic
@@ -47,11 +47,11 @@ struct PovrayMesh {
 std::string povrayMeshesText(const std::vector<PovrayMesh>& meshes, double terrainLow, double terrainHigh);
 
 struct PovrayCloud {
-    std::string df3File;       ///< the density, relative to the scene file's folder
+    std::string df3File; ///< the density, relative to the scene file's folder
     Df3Placement placement;
     std::string skyLitDf3File; ///< density x sky transmittance, on the same cells
     Df3Placement skyLitPlacement;
-    double volumeStep = 0.5;   ///< world units between media samples
+    double volumeStep = 0.5; ///< world units between media samples
 };
 
 struct PovrayFrame {

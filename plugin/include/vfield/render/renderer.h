@@ -29,10 +29,10 @@ struct RenderImage {
 struct FrameToRender {
     const RenderSettings* settings = nullptr;
     const SurfaceScene* surfaces = nullptr;
-    std::map<int, SurfaceMaterial> materials; ///< per object; Painted where missing
-    const CloudVolume* volume = nullptr;      ///< may be null: surfaces only
+    std::map<int, SurfaceMaterial> materials;                            ///< per object; Painted where missing
+    const CloudVolume* volume = nullptr;                                 ///< may be null: surfaces only
     Camera camera{Vec3d(0, 0, 1), Vec3d(0.0), Vec3d(0, 1, 0), 45, 1, 1}; ///< set per frame
-    int frame = 0;                            ///< keys the random numbers
+    int frame = 0;                                                       ///< keys the random numbers
     int width = 640, height = 360, samplesPerPixel = 4;
     double terrainLow = 0.0, terrainHigh = 1.0; ///< heights for the terrain's colours
 };

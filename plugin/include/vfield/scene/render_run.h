@@ -40,9 +40,9 @@ struct RenderRunOptions {
 
 struct RenderRunSummary {
     int rendered = 0, skipped = 0;
-    double secondsPerFrame = 0.0;        ///< mean over rendered frames, everything included
-    double embreeSecondsPerFrame = 0.0;  ///< mean time in vfield's renderer (0 if unused)
-    double povraySecondsPerFrame = 0.0;  ///< mean time exporting and running POV-Ray (0 if unused)
+    double secondsPerFrame = 0.0;       ///< mean over rendered frames, everything included
+    double embreeSecondsPerFrame = 0.0; ///< mean time in vfield's renderer (0 if unused)
+    double povraySecondsPerFrame = 0.0; ///< mean time exporting and running POV-Ray (0 if unused)
 };
 
 RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDir, const std::string& outputDir,

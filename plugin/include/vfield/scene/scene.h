@@ -14,7 +14,7 @@
 namespace vfield {
 
 struct Scene {
-    std::string path;        ///< the scene file
+    std::string path; ///< the scene file
     /// Hash of what the simulation depends on (version, frames, seed, objects,
     /// clouds, fields, simulation, volume), in canonical form: a resumed run
     /// must match it. Camera, sun, sky and render settings do not enter it.

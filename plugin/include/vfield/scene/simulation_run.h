@@ -20,7 +20,7 @@
 namespace vfield {
 
 struct FrameProgress {
-    int frame = 0;          ///< frame just finished
+    int frame = 0;           ///< frame just finished
     int done = 0, total = 0; ///< frames finished in this run, and to finish
     uint64_t alive = 0;
     double elapsedSeconds = 0.0;
@@ -44,9 +44,9 @@ struct FrameRecord {
 };
 
 struct SimulateSummary {
-    std::vector<FrameRecord> frames;     ///< every frame simulated so far, resumed ones included
-    int resumedAfterFrame = -1;          ///< the frame a saved state was resumed after, or -1
-    std::vector<std::string> warnings;   ///< e.g. open meshes whose inside is undefined
+    std::vector<FrameRecord> frames;             ///< every frame simulated so far, resumed ones included
+    int resumedAfterFrame = -1;                  ///< the frame a saved state was resumed after, or -1
+    std::vector<std::string> warnings;           ///< e.g. open meshes whose inside is undefined
     ClearanceStats worstParticles, worstDynamic; ///< minima over all frames, penetrations summed
 };
 

@@ -12,11 +12,11 @@
 namespace vfield {
 
 struct ParticleSet {
-    std::vector<Vec3f> position;  ///< world units
-    std::vector<Vec3f> velocity;  ///< world units / s
-    std::vector<uint32_t> id;     ///< unique for the whole sequence
-    std::vector<float> radius;    ///< world units (pscale)
-    std::vector<uint16_t> cloud;  ///< index of the cloud it came from
+    std::vector<Vec3f> position; ///< world units
+    std::vector<Vec3f> velocity; ///< world units / s
+    std::vector<uint32_t> id;    ///< unique for the whole sequence
+    std::vector<float> radius;   ///< world units (pscale)
+    std::vector<uint16_t> cloud; ///< index of the cloud it came from
 
     std::size_t size() const { return position.size(); }
     void reserve(std::size_t n);

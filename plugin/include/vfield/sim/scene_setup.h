@@ -19,11 +19,11 @@ namespace vfield {
 struct ObjectSpec {
     std::string name;
     MeshSource mesh;
-    Transform transform;        ///< placement of the mesh (for dynamic objects: at the first frame)
-    bool isDynamic = false;     ///< moves through the fields (the airplane); else fixed
-    double mass = 1.0;          ///< dynamic only (> 0)
-    double drag = 0.0;          ///< dynamic only: deceleration per unit velocity, 1/s (>= 0)
-    Vec3d velocity{0.0};        ///< dynamic only: initial velocity, world units/s
+    Transform transform;    ///< placement of the mesh (for dynamic objects: at the first frame)
+    bool isDynamic = false; ///< moves through the fields (the airplane); else fixed
+    double mass = 1.0;      ///< dynamic only (> 0)
+    double drag = 0.0;      ///< dynamic only: deceleration per unit velocity, 1/s (>= 0)
+    Vec3d velocity{0.0};    ///< dynamic only: initial velocity, world units/s
     /// Dynamic only: the mesh's nose is +x and its up +y in object space; its
     /// heading and pitch follow the velocity, and with bank it rolls into turns.
     bool bank = false;
@@ -33,15 +33,15 @@ struct ObjectSpec {
 struct CloudSpec {
     enum class Shape { Sphere, Ellipsoid, Box };
     std::string name;
-    int64_t count = 10000;          ///< particles (>= 1)
+    int64_t count = 10000; ///< particles (>= 1)
     Shape shape = Shape::Sphere;
-    Vec3d center{0.0};              ///< world units
-    Vec3d radii{10.0, 10.0, 10.0};  ///< sphere: radius (all equal); ellipsoid: semi-axes; box: half extents
-    double particleRadius = 0.5;    ///< world units; the density kernel's default radius scales with it
-    double mass = 1.0;              ///< per particle (> 0): repulsive forces are divided by it
-    double drag = 0.5;              ///< 1/s
-    Vec3d velocity{0.0};            ///< initial, world units/s
-    uint64_t seed = 1;              ///< placement of the particles (mixed with the scene's seed)
+    Vec3d center{0.0};             ///< world units
+    Vec3d radii{10.0, 10.0, 10.0}; ///< sphere: radius (all equal); ellipsoid: semi-axes; box: half extents
+    double particleRadius = 0.5;   ///< world units; the density kernel's default radius scales with it
+    double mass = 1.0;             ///< per particle (> 0): repulsive forces are divided by it
+    double drag = 0.5;             ///< 1/s
+    Vec3d velocity{0.0};           ///< initial, world units/s
+    uint64_t seed = 1;             ///< placement of the particles (mixed with the scene's seed)
 };
 
 /// A uniform acceleration (world units/s^2), everywhere or inside a box whose
@@ -67,9 +67,9 @@ struct SimulationOptions {
 };
 
 struct SimulationSetup {
-    int firstFrame = 1;  ///< frame numbers of the sequence
+    int firstFrame = 1; ///< frame numbers of the sequence
     int lastFrame = 120;
-    double fps = 24.0;   ///< frames per second; frame f is at time (f - firstFrame) / fps
+    double fps = 24.0; ///< frames per second; frame f is at time (f - firstFrame) / fps
     uint64_t seed = 1;
     std::vector<ObjectSpec> objects;
     std::vector<CloudSpec> clouds;

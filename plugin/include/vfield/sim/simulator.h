@@ -28,16 +28,16 @@ namespace vfield {
 /// One scene object as the simulator holds it.
 struct SimObject {
     const ObjectSpec* spec = nullptr;
-    TriangleMesh mesh;                     ///< object space
-    std::shared_ptr<OctreeField> field;    ///< null without repulsion
-    openvdb::Vec3SGrid::Ptr forceGrid;     ///< the field voxelized in object space; null without repulsion
-    std::vector<Vec3d> centroids;          ///< object space, for the hit test (dynamic objects)
+    TriangleMesh mesh;                  ///< object space
+    std::shared_ptr<OctreeField> field; ///< null without repulsion
+    openvdb::Vec3SGrid::Ptr forceGrid;  ///< the field voxelized in object space; null without repulsion
+    std::vector<Vec3d> centroids;       ///< object space, for the hit test (dynamic objects)
 };
 
 /// A dynamic object's state at a frame.
 struct DynamicState {
-    Transform pose;       ///< pivot = the mesh's object-space origin
-    Vec3d velocity{0.0};  ///< world units / s
+    Transform pose;      ///< pivot = the mesh's object-space origin
+    Vec3d velocity{0.0}; ///< world units / s
 };
 
 /// What one frame's step did.
