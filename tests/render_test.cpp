@@ -1,14 +1,15 @@
 #include "test_meshes.h"
 
 #include <vfield/mesh/procedural.h>
+#include <vfield/render/embree/renderer.h>
 #include <vfield/render/frame_image.h>
-#include <vfield/render/renderer.h>
 
 #include <catch2/catch.hpp>
 
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <limits>
 
 using namespace vfield;
 
@@ -25,15 +26,34 @@ openvdb::FloatGrid::Ptr constantBox(const Vec3d& min, const Vec3d& max, double v
     return grid;
 }
 
-ImageSettings medium(double extinction, double albedo, double anisotropy, double step)
+RenderSettings medium(double extinction, double albedo, double anisotropy, double step)
 {
-    ImageSettings image;
-    image.extinction = extinction;
-    image.albedo = albedo;
-    image.anisotropy = anisotropy;
-    image.volumeStep = step;
-    return image;
+    RenderSettings settings;
+    settings.medium.extinction = extinction;
+    settings.medium.albedo = albedo;
+    settings.medium.anisotropy = anisotropy;
+    settings.integrator.volumeStep = step;
+    return settings;
 }
+
+/// A density grid lit (shadowed by occluders, if any) and ready to march.
+struct LitCloud {
+    CloudLighting lighting;
+    CloudVolume volume;
+
+    LitCloud(openvdb::FloatGrid::ConstPtr grid, const RenderSettings& settings, const Vec3d& toSun, const SurfaceScene* occluders)
+        : lighting(std::move(grid), settings.medium, toSun, sunBlockedBy(occluders)),
+          volume(lighting, settings.medium, settings.integrator)
+    {}
+
+    static CloudLighting::Occlusion sunBlockedBy(const SurfaceScene* occluders)
+    {
+        if (!occluders) return {};
+        return [occluders](const Vec3d& origin, const Vec3d& dir) {
+            return occluders->occluded(origin, dir, 1e-3, std::numeric_limits<double>::max());
+        };
+    }
+};
 
 struct SmallScene {
     RenderSettings settings;
@@ -50,11 +70,11 @@ struct SmallScene {
         frame.settings = &settings;
         frame.surfaces = &surfaces;
         frame.materials[0] = SurfaceMaterial::Terrain;
-        frame.width = 96;
-        frame.height = 54;
-        frame.samplesPerPixel = 2;
+        settings.image.width = 96;
+        settings.image.height = 54;
+        settings.image.samplesPerPixel = 2;
         frame.frame = 7;
-        frame.camera = Camera::fromSettings(settings.camera, frame.width, frame.height);
+        frame.camera = Camera::fromSettings(settings.camera, settings.image.width, settings.image.height);
     }
 };
 
@@ -64,10 +84,9 @@ TEST_CASE("render: an empty volume renders exactly like surfaces alone", "[rende
 {
     SmallScene scene;
     const RenderImage surfacesOnly = renderFrame(scene.frame);
-    const CloudVolume empty(openvdb::FloatGrid::create(0.0f), scene.settings.image, scene.settings.sun.direction,
-                            &scene.surfaces);
-    REQUIRE(empty.empty());
-    scene.frame.volume = &empty;
+    const LitCloud empty(openvdb::FloatGrid::create(0.0f), scene.settings, scene.settings.sun.direction, &scene.surfaces);
+    REQUIRE(empty.volume.empty());
+    scene.frame.volume = &empty.volume;
     const RenderImage withVolume = renderFrame(scene.frame);
     CHECK(withVolume.rgba == surfacesOnly.rgba);
     CHECK(withVolume.depth == surfacesOnly.depth);
@@ -77,7 +96,8 @@ TEST_CASE("render: transmittance through a constant-density box is exp(-sigma d)
 {
     // Density 0.8 over x in [-5, 5]: d = 10, sigma = 0.25 x 0.8.
     const auto grid = constantBox({-5, -3, -3}, {5, 3, 3}, 0.1, 0.8f);
-    const CloudVolume volume(grid, medium(0.25, 0.9, 0.0, 0.05), Vec3d(0, 1, 0), nullptr);
+    const LitCloud cloud(grid, medium(0.25, 0.9, 0.0, 0.05), Vec3d(0, 1, 0), nullptr);
+    const CloudVolume& volume = cloud.volume;
     for (double jitter : {0.0, 0.37, 0.99}) {
         const CloudVolume::Segment s = volume.march({-20, 0.01, 0.02}, {1, 0, 0}, 0.0, 1e9, jitter, Vec3d(0.0), Vec3d(0.0));
         CHECK(s.transmittance == Approx(std::exp(-0.25 * 0.8 * 10.0)).epsilon(0.01));
@@ -94,7 +114,8 @@ TEST_CASE("render: a slab lit from behind matches analytic single scattering", "
     // so L_out = sigma_s E p(0) L e^(-sigma_t L), p the Henyey-Greenstein phase.
     const double rho = 0.5, extinction = 1.0, albedo = 0.8, g = 0.4, length = 2.0, sun = 3.0;
     const auto grid = constantBox({-4, -4, 0}, {4, 4, length}, 0.02, float(rho));
-    const CloudVolume volume(grid, medium(extinction, albedo, g, 0.01), Vec3d(0, 0, 1), nullptr);
+    const LitCloud cloud(grid, medium(extinction, albedo, g, 0.01), Vec3d(0, 0, 1), nullptr);
+    const CloudVolume& volume = cloud.volume;
     const CloudVolume::Segment s = volume.march({0.003, 0.001, -10}, {0, 0, 1}, 0.0, 1e9, 0.5, Vec3d(sun), Vec3d(0.0));
     const double sigmaT = extinction * rho;
     const double expected = albedo * sigmaT * sun * henyeyGreenstein(1.0, g) * length * std::exp(-sigmaT * length);
@@ -121,9 +142,9 @@ TEST_CASE("render: a cloud behind a surface does not show through it", "[render]
     SmallScene scene;
     const RenderImage surfacesOnly = renderFrame(scene.frame);
     // A dense cloud behind the pillar, as seen from the camera.
-    const CloudVolume cloud(constantBox({-3, 1, -12}, {3, 5, -6}, 0.25, 2.0f), scene.settings.image, scene.settings.sun.direction,
-                            &scene.surfaces);
-    scene.frame.volume = &cloud;
+    const LitCloud cloud(constantBox({-3, 1, -12}, {3, 5, -6}, 0.25, 2.0f), scene.settings, scene.settings.sun.direction,
+                         &scene.surfaces);
+    scene.frame.volume = &cloud.volume;
     const RenderImage withCloud = renderFrame(scene.frame);
     // The pillar's centre pixel: the same in both; beside the pillar the cloud shows.
     const auto pixel = [&](const RenderImage& image, int x, int y) { return image.rgba[4 * (std::size_t(y) * image.width + x)]; };
@@ -134,9 +155,9 @@ TEST_CASE("render: a cloud behind a surface does not show through it", "[render]
 TEST_CASE("render: images are identical for 1 and 2 threads", "[render]")
 {
     SmallScene scene;
-    const CloudVolume cloud(constantBox({-6, 2, -3}, {6, 6, 3}, 0.25, 0.6f), scene.settings.image, scene.settings.sun.direction,
-                            &scene.surfaces);
-    scene.frame.volume = &cloud;
+    const LitCloud cloud(constantBox({-6, 2, -3}, {6, 6, 3}, 0.25, 0.6f), scene.settings, scene.settings.sun.direction,
+                         &scene.surfaces);
+    scene.frame.volume = &cloud.volume;
     RenderImage one, two;
     {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
@@ -149,7 +170,7 @@ TEST_CASE("render: images are identical for 1 and 2 threads", "[render]")
     CHECK(one.rgba == two.rgba);
 }
 
-TEST_CASE("render: EXR frames are linear half floats with alpha and depth; PNG is sRGB", "[render]")
+TEST_CASE("render: EXR frames are linear half floats with alpha and depth, and PNG is sRGB", "[render]")
 {
     SmallScene scene;
     const RenderImage image = renderFrame(scene.frame);

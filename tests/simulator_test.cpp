@@ -13,6 +13,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -28,21 +29,6 @@ void runFrames(Simulator& sim, int frames)
 }
 
 } // namespace
-
-TEST_CASE("transform: 90 degrees about y turns +x into -z", "[sim]")
-{
-    const Quatd q = Transform::rotationFromDegrees({0, 90, 0});
-    const Vec3d v = rotate(q, {1, 0, 0});
-    CHECK(v[0] == Approx(0).margin(1e-12));
-    CHECK(v[2] == Approx(-1).margin(1e-12));
-    Transform t;
-    t.rotation = q;
-    t.translation = Vec3d(1, 2, 3);
-    t.scale = 2.0;
-    const Vec3d p(0.3, -0.2, 0.7);
-    CHECK((t.objectFromWorld(t.worldFromObject(p)) - p).length() < 1e-12);
-    CHECK((t.matrix().transform(p) - t.worldFromObject(p)).length() < 1e-12);
-}
 
 TEST_CASE("simulator: free fall with drag follows the analytic solution", "[sim]")
 {
@@ -119,28 +105,6 @@ TEST_CASE("simulator: a dynamic object's nose follows its velocity", "[sim]")
     const Vec3d nose = pose.rotateToWorld({1, 0, 0});
     CHECK(nose[2] == Approx(-1).margin(1e-9));
     CHECK(pose.translation[2] == Approx(-10.0 / 24.0));
-}
-
-TEST_CASE("clearance: points just below the terrain count as inside", "[sim]")
-{
-    const Scene scene = test::showcaseAtTestResolution("cloud_over_terrain.json", 10, 2);
-    const Simulator sim(scene.simulation);
-    const ClearanceProbe probe(sim);
-    REQUIRE(probe.warnings().empty()); // the terrain is closed
-    const TerrainOptions& terrain = scene.simulation.objects[0].mesh.terrain;
-    for (const Vec2d& xz : {Vec2d(0, 0), Vec2d(-40, 30), Vec2d(45, -20), Vec2d(-90, 80)}) {
-        const double h = terrainHeight(terrain, xz[0], xz[1]);
-        INFO("at x " << xz[0] << " z " << xz[1] << " height " << h);
-        CHECK(probe.distance({xz[0], h - 0.3, xz[1]}) < 0.0);
-        CHECK(probe.distance({xz[0], h + 0.6, xz[1]}) > 0.0);
-        // Three units above the ground lie 3 n_y from its tangent plane.
-        const double e = 0.01;
-        const Vec3d normal =
-            Vec3d(-(terrainHeight(terrain, xz[0] + e, xz[1]) - terrainHeight(terrain, xz[0] - e, xz[1])) / (2 * e), 1.0,
-                  -(terrainHeight(terrain, xz[0], xz[1] + e) - terrainHeight(terrain, xz[0], xz[1] - e)) / (2 * e))
-                .unitSafe();
-        CHECK(probe.distance({xz[0], h + 3.0, xz[1]}) == Approx(3.0 * normal[1]).margin(0.5));
-    }
 }
 
 TEST_CASE("showcase: the cloud squeezes through the pass and leaves without a penetration", "[sim][showcase]")
@@ -235,19 +199,76 @@ TEST_CASE("simulator: a killed run resumes and ends as an uninterrupted one", "[
         CHECK(entry.path().filename().string().find(".tmp-") == std::string::npos);
 }
 
-TEST_CASE("simulator: an output folder of another scene is refused", "[sim][resume]")
+TEST_CASE("simulator: an output folder of another scene file is refused", "[sim][resume]")
 {
     const std::string dir = test::scratchDir("other-scene");
-    simulateScene(test::showcaseAtTestResolution("cloud_over_terrain.json", 100, 2), dir);
-    CHECK_THROWS_WITH(simulateScene(test::showcaseAtTestResolution("cloud_over_terrain.json", 101, 2), dir),
-                      Catch::Contains("holds a simulation of another scene"));
+    const Scene scene = test::showcaseAtTestResolution("cloud_over_terrain.json", 100, 2);
+    simulateScene(scene, dir);
+    Scene other = scene;
+    other.path = dir + "/elsewhere.json";
+    CHECK_THROWS_WITH(simulateScene(other, dir), Catch::Contains("holds a simulation of another scene"));
+}
+
+TEST_CASE("simulator: an edited scene is simulated afresh, leaving no stale frame", "[sim][resume]")
+{
+    const std::string dir = test::scratchDir("edited-scene");
+    simulateScene(test::showcaseAtTestResolution("cloud_over_terrain.json", 100, 3), dir);
+    REQUIRE(std::filesystem::exists(dir + "/density.0003.vdb"));
+    const SimulateSummary edited = simulateScene(test::showcaseAtTestResolution("cloud_over_terrain.json", 101, 2), dir);
+    CHECK(edited.restartedStale);
+    CHECK(edited.resumedAfterFrame == -1);
+    CHECK(edited.frames.size() == 2);
+    CHECK(edited.frames.back().alive == 101);
+    CHECK_FALSE(std::filesystem::exists(dir + "/density.0003.vdb"));
 }
 
 TEST_CASE("simulator: editing how a scene looks keeps its simulation resumable", "[sim][resume]")
 {
+    const auto hash = [](const std::string& text) {
+        const Scene scene = parseScene(text, "a.json");
+        return simulationInputsHash(scene.simulation, scene.volume);
+    };
     const std::string text = R"({"version": 1, "objects": [], "camera": {"fovDegrees": 30}})";
     const std::string other = R"({"version": 1,   "objects": [], "camera": {"fovDegrees": 60}, "sun": {"intensity": 2}})";
-    CHECK(parseScene(text, "a.json").simulationHash == parseScene(other, "a.json").simulationHash);
-    CHECK(parseScene(text, "a.json").simulationHash !=
-          parseScene(R"({"version": 1, "objects": [], "seed": 2})", "a.json").simulationHash);
+    CHECK(hash(text) == hash(other));
+    CHECK(hash(text) != hash(R"({"version": 1, "objects": [], "seed": 2})"));
+}
+
+TEST_CASE("simulator: an edited mesh file is simulated afresh", "[sim][resume]")
+{
+    // The scene text stays the same; only the airplane's OBJ changes, scaled by 1.6.
+    const std::string dir = test::scratchDir("edited-mesh");
+    std::filesystem::create_directories(dir + "/scene/meshes");
+    std::filesystem::copy_file(std::string(VFIELD_SCENES_DIR) + "/canyon_flythrough.json", dir + "/scene/canyon.json",
+                               std::filesystem::copy_options::overwrite_existing);
+    const std::string mesh = dir + "/scene/meshes/airplane.obj";
+    std::filesystem::copy_file(std::string(VFIELD_SCENES_DIR) + "/meshes/airplane.obj", mesh,
+                               std::filesystem::copy_options::overwrite_existing);
+    const auto canyon = [&] {
+        nlohmann::json json = nlohmann::json::parse(test::readTextFile(dir + "/scene/canyon.json"));
+        json["frames"]["end"] = json["frames"]["start"].get<int>() + 2;
+        return parseScene(json.dump(), dir + "/scene/canyon.json");
+    };
+    const std::string sim = dir + "/sim";
+    simulateScene(canyon(), sim);
+    const std::string statsBefore = test::readTextFile(sim + "/stats.json");
+
+    std::istringstream original(test::readTextFile(mesh));
+    std::ostringstream scaled;
+    for (std::string line; std::getline(original, line);) {
+        if (line.rfind("v ", 0) == 0) {
+            std::istringstream v(line.substr(2));
+            double x, y, z;
+            v >> x >> y >> z;
+            scaled << "v " << 1.6 * x << ' ' << 1.6 * y << ' ' << 1.6 * z << '\n';
+        } else {
+            scaled << line << '\n';
+        }
+    }
+    std::ofstream(mesh) << scaled.str();
+
+    const SimulateSummary again = simulateScene(canyon(), sim);
+    CHECK(again.restartedStale);
+    CHECK(again.resumedAfterFrame == -1);
+    CHECK(test::readTextFile(sim + "/stats.json") != statsBefore);
 }

@@ -8,4 +8,8 @@ ParseError::ParseError(const std::string& path, const std::string& location, con
     : FileError(path, location + ": " + message), mLocation(location)
 {}
 
+OptionError::OptionError(const std::string& key, const std::string& detail)
+    : ValueError(key.empty() ? detail : key + ": " + detail), mKey(key), mDetail(detail)
+{}
+
 } // namespace vfield

@@ -58,17 +58,6 @@ double JsonValue::asNumber() const
     return v;
 }
 
-double JsonValue::asNumber(double min, double max) const
-{
-    const double v = asNumber();
-    if (v < min || v > max) {
-        std::ostringstream range;
-        range << "expected a number within [" << min << ", " << max << "], got " << brief();
-        fail(range.str());
-    }
-    return v;
-}
-
 int64_t JsonValue::asInteger(int64_t min, int64_t max) const
 {
     const std::string kind = min == 1 ? "a positive integer" : min == 0 ? "a non-negative integer" : "an integer";
@@ -77,6 +66,14 @@ int64_t JsonValue::asInteger(int64_t min, int64_t max) const
     if (!std::isfinite(v) || std::floor(v) != v || v < double(min)) fail("expected " + kind + ", got " + brief());
     if (v > double(max)) fail("expected " + kind + " of at most " + std::to_string(max) + ", got " + brief());
     return mValue->is_number_integer() ? mValue->get<int64_t>() : int64_t(v);
+}
+
+int JsonValue::asInt() const { return int(asInteger(INT32_MIN, INT32_MAX)); }
+
+uint64_t JsonValue::asUnsigned() const
+{
+    if (mValue->is_number_unsigned()) return mValue->get<uint64_t>();
+    return uint64_t(asInteger(0, INT64_MAX));
 }
 
 bool JsonValue::asBool() const
@@ -152,16 +149,28 @@ JsonValue JsonObject::at(const std::string& key)
     return *v;
 }
 
-double JsonObject::number(const std::string& key, double fallback, double min, double max)
+double JsonObject::number(const std::string& key, double fallback)
 {
     const std::optional<JsonValue> v = find(key);
-    return v ? v->asNumber(min, max) : fallback;
+    return v ? v->asNumber() : fallback;
 }
 
-int64_t JsonObject::integer(const std::string& key, int64_t fallback, int64_t min, int64_t max)
+int JsonObject::integer(const std::string& key, int fallback)
 {
     const std::optional<JsonValue> v = find(key);
-    return v ? v->asInteger(min, max) : fallback;
+    return v ? v->asInt() : fallback;
+}
+
+int64_t JsonObject::integer64(const std::string& key, int64_t fallback)
+{
+    const std::optional<JsonValue> v = find(key);
+    return v ? v->asInteger(INT64_MIN, INT64_MAX) : fallback;
+}
+
+uint64_t JsonObject::unsignedInteger(const std::string& key, uint64_t fallback)
+{
+    const std::optional<JsonValue> v = find(key);
+    return v ? v->asUnsigned() : fallback;
 }
 
 bool JsonObject::boolean(const std::string& key, bool fallback)
@@ -193,6 +202,16 @@ void JsonObject::finish() const
     for (const auto& [key, value] : mValue.raw().items())
         if (mRead.count(key) == 0)
             throw ParseError(mValue.file(), child(mValue.pointer(), escapePointerToken(key)), "unknown key \"" + key + "\"");
+}
+
+void validateAt(const JsonValue& json, const std::function<void()>& validate)
+{
+    try {
+        validate();
+    } catch (const OptionError& e) {
+        const std::string pointer = e.key().empty() ? json.pointer() : child(json.pointer(), e.key());
+        throw ParseError(json.file(), pointer, e.detail());
+    }
 }
 
 JsonValue parseJson(const std::string& text, const std::string& file)

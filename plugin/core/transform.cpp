@@ -1,5 +1,7 @@
 #include <vfield/core/transform.h>
 
+#include <vfield/core/options.h>
+
 #include <cmath>
 
 namespace vfield {
@@ -28,5 +30,7 @@ Mat4d Transform::matrix() const
 }
 
 bool Transform::isIdentity() const { return translation == Vec3d(0.0) && scale == 1.0 && rotation.eq(Quatd::identity()); }
+
+void Transform::validate() const { requireNumber("scale", scale, 1e-9, 1e9); }
 
 } // namespace vfield

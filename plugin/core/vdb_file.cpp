@@ -2,6 +2,7 @@
 
 #include <vfield/core/atomic_file.h>
 #include <vfield/core/error.h>
+#include <vfield/core/hash.h>
 
 #include <openvdb/io/File.h>
 #include <openvdb/points/PointDataGrid.h>
@@ -64,39 +65,10 @@ GridSummary summarizeGrid(const openvdb::GridBase& grid)
 
 namespace {
 
-/// Mixes 8-byte words (SplitMix64 finalizer); order-dependent and fast.
-class ContentHash {
-public:
-    void add(const void* data, std::size_t size)
-    {
-        const auto* bytes = static_cast<const unsigned char*>(data);
-        while (size > 0) {
-            uint64_t word = 0;
-            const std::size_t n = std::min<std::size_t>(size, 8);
-            std::memcpy(&word, bytes, n);
-            mix(word ^ (uint64_t(n) << 56));
-            bytes += n;
-            size -= n;
-        }
-    }
-    void add(const std::string& text) { add(text.data(), text.size()); }
-    uint64_t value() const { return mState; }
-
-private:
-    void mix(uint64_t word)
-    {
-        uint64_t z = (mState ^ word) + 0x9e3779b97f4a7c15ull;
-        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-        z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-        mState = z ^ (z >> 31);
-    }
-    uint64_t mState = 0x243f6a8885a308d3ull;
-};
-
 template<typename ValueT>
 void addValue(ContentHash& hash, const ValueT& value)
 {
-    hash.add(&value, sizeof value);
+    hash.addValue(value);
 }
 
 void addValue(ContentHash& hash, bool value)

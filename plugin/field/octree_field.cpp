@@ -2,6 +2,7 @@
 
 #include <vfield/core/error.h>
 #include <vfield/core/json.h>
+#include <vfield/core/options.h>
 #include <vfield/field/triangle_box_overlap.h>
 
 #include <tbb/parallel_for.h>
@@ -16,25 +17,22 @@ namespace vfield {
 
 void OctreeFieldOptions::validate() const
 {
-    if (margin && !(*margin >= 0 && std::isfinite(*margin))) throw ValueError("field margin must be a finite number >= 0");
-    if (maxPerLeaf < 1) throw ValueError("field maxPerLeaf must be at least 1");
-    if (maxLevel < 1 || maxLevel > OctreeField::kMaxLevels)
-        throw ValueError("field maxLevel must be within 1.." + std::to_string(OctreeField::kMaxLevels));
-    if (!(strength >= 0 && std::isfinite(strength))) throw ValueError("field strength must be a finite number >= 0");
-    if (!(surfaceBoost >= 1 && std::isfinite(surfaceBoost))) throw ValueError("field surfaceBoost must be a finite number >= 1");
+    if (margin) requireNumber("margin", *margin, 0.0, 1e12);
+    requireInteger("maxPerLeaf", maxPerLeaf, 1, 1 << 20);
+    requireInteger("maxLevel", maxLevel, 1, OctreeField::kMaxLevels);
+    requireNumber("strength", strength, 0.0, 1e12);
+    requireNumber("surfaceBoost", surfaceBoost, 1.0, 1e12);
 }
 
 OctreeFieldOptions octreeFieldOptionsFromJson(const JsonValue& json)
 {
-    JsonObject o(json);
-    OctreeFieldOptions options;
-    if (const auto margin = o.find("margin")) options.margin = margin->asNumber(0, 1e12);
-    options.maxPerLeaf = int(o.integer("maxPerLeaf", options.maxPerLeaf, 1, 1 << 20));
-    options.maxLevel = int(o.integer("maxLevel", options.maxLevel, 1, OctreeField::kMaxLevels));
-    options.strength = o.number("strength", options.strength, 0, 1e12);
-    options.surfaceBoost = o.number("surfaceBoost", options.surfaceBoost, 1, 1e12);
-    o.finish();
-    return options;
+    return readOptions<OctreeFieldOptions>(json, [&](JsonObject& o, OctreeFieldOptions& options) {
+        if (const auto margin = o.find("margin")) options.margin = margin->asNumber();
+        options.maxPerLeaf = o.integer("maxPerLeaf", options.maxPerLeaf);
+        options.maxLevel = o.integer("maxLevel", options.maxLevel);
+        options.strength = o.number("strength", options.strength);
+        options.surfaceBoost = o.number("surfaceBoost", options.surfaceBoost);
+    });
 }
 
 double OctreeField::cellSize(int level) const { return mCellSize[level]; }

@@ -1,6 +1,6 @@
 #include <vfield/mesh/procedural.h>
 
-#include <vfield/core/error.h>
+#include <vfield/core/options.h>
 
 #include <algorithm>
 #include <array>
@@ -102,31 +102,41 @@ double carveProfile(double distance, const TerrainCarve& carve)
     return 1.0 - shaped * shaped * (3.0 - 2.0 * shaped);
 }
 
-void require(bool ok, const std::string& what)
-{
-    if (!ok) throw ValueError(what);
-}
-
 } // namespace
 
-void validate(const TerrainOptions& o)
+void TerrainCarve::validate() const
 {
-    require(o.sizeX > 0 && o.sizeZ > 0, "terrain size must be positive");
-    require(o.cellsX >= 1 && o.cellsZ >= 1, "terrain cells must be at least 1");
-    require(double(o.cellsX) * o.cellsZ <= 64e6,
-            "terrain cells: at most 64 million (" + std::to_string(o.cellsX) + " x " + std::to_string(o.cellsZ) + " asked)");
-    require(o.amplitude >= 0, "terrain amplitude must not be negative");
-    require(o.featureSize > 0, "terrain featureSize must be positive");
-    require(o.octaves >= 1 && o.octaves <= 16, "terrain octaves must be within 1..16");
-    require(o.roughness >= 0 && o.roughness <= 1, "terrain roughness must be within 0..1");
-    require(o.baseThickness > 0, "terrain baseThickness must be positive");
-    for (std::size_t i = 0; i < o.carves.size(); ++i) {
-        const TerrainCarve& c = o.carves[i];
-        const std::string name = "terrain carve " + std::to_string(i);
-        require(c.path.size() >= 2, name + ": path needs at least two points");
-        require(c.halfWidth > 0, name + ": halfWidth must be positive");
-        require(c.wallSharpness >= 1, name + ": wallSharpness must be at least 1");
-    }
+    require(path.size() >= 2, "path", "expected at least two points [x, z]");
+    requireNumber("halfWidth", halfWidth, 1e-9, 1e12);
+    requireNumber("depth", depth, -1e12, 1e12);
+    requireNumber("wallSharpness", wallSharpness, 1.0, 100.0);
+}
+
+void TerrainOptions::validate() const
+{
+    requireNumber("size/0", sizeX, 1e-9, 1e12);
+    requireNumber("size/1", sizeZ, 1e-9, 1e12);
+    requireInteger("cells/0", cellsX, 1, kMaxCellsPerAxis);
+    requireInteger("cells/1", cellsZ, 1, kMaxCellsPerAxis);
+    require(double(cellsX) * cellsZ <= kMaxCells, "cells",
+            "expected at most 64 million cells in all, got " + std::to_string(cellsX) + " x " + std::to_string(cellsZ));
+    requireNumber("amplitude", amplitude, 0.0, 1e9);
+    requireNumber("featureSize", featureSize, 1e-9, 1e12);
+    requireInteger("octaves", octaves, 1, 16);
+    requireNumber("roughness", roughness, 0.0, 1.0);
+    requireNumber("baseThickness", baseThickness, 1e-9, 1e12);
+    for (std::size_t i = 0; i < carves.size(); ++i) validatePart("carves/" + std::to_string(i), carves[i]);
+}
+
+void SphereOptions::validate() const
+{
+    requireNumber("radius", radius, 1e-12, 1e12);
+    requireInteger("subdivisions", subdivisions, 0, 8);
+}
+
+void BoxOptions::validate() const
+{
+    for (int axis = 0; axis < 3; ++axis) require(max[axis] > min[axis], "", "max must exceed min on every axis");
 }
 
 namespace {
@@ -168,13 +178,13 @@ private:
 
 double terrainHeight(const TerrainOptions& options, double x, double z)
 {
-    validate(options);
+    options.validate();
     return TerrainHeightField(options)(x, z);
 }
 
 TriangleMesh makeTerrain(const TerrainOptions& o)
 {
-    validate(o);
+    o.validate();
     const TerrainHeightField height(o);
     const int nx = o.cellsX + 1, nz = o.cellsZ + 1; // grid points per axis
     const auto top = [nz](int i, int k) { return uint32_t(i * nz + k); };
@@ -226,8 +236,7 @@ TriangleMesh makeTerrain(const TerrainOptions& o)
 
 TriangleMesh makeSphere(const SphereOptions& o)
 {
-    if (!(o.radius > 0)) throw ValueError("sphere radius must be positive");
-    if (o.subdivisions < 0 || o.subdivisions > 8) throw ValueError("sphere subdivisions must be within 0..8");
+    o.validate();
 
     // Icosahedron, then each subdivision splits a triangle into four, with
     // shared midpoints so the result stays closed.
@@ -265,8 +274,7 @@ TriangleMesh makeSphere(const SphereOptions& o)
 
 TriangleMesh makeBox(const BoxOptions& o)
 {
-    for (int axis = 0; axis < 3; ++axis)
-        if (!(o.max[axis] > o.min[axis])) throw ValueError("box max must exceed min on every axis");
+    o.validate();
     TriangleMesh mesh;
     for (int corner = 0; corner < 8; ++corner)
         mesh.points.emplace_back(corner & 1 ? o.max[0] : o.min[0], corner & 2 ? o.max[1] : o.min[1],

@@ -1,6 +1,8 @@
 #include <vfield/sim/scene_setup.h>
 
-#include <vfield/core/error.h>
+#include <vfield/core/options.h>
+
+#include <set>
 
 #include <algorithm>
 #include <cmath>
@@ -22,106 +24,158 @@ Vec3d UniformFieldSpec::accelerationAt(const Vec3d& p) const
     return outside >= softEdge ? Vec3d(0.0) : acceleration * (1.0 - outside / softEdge);
 }
 
+namespace {
+
+void requireBox(const std::string& key, const BBoxd& box)
+{
+    for (int axis = 0; axis < 3; ++axis) require(box.max()[axis] > box.min()[axis], key, "max must exceed min on every axis");
+}
+
+} // namespace
+
+void ObjectSpec::validate() const
+{
+    validatePart("mesh", mesh);
+    validatePart("transform", transform);
+    requireNumber("mass", mass, 1e-9, 1e12);
+    requireNumber("drag", drag, 0.0, 1e6);
+    if (repulsion) validatePart("repulsion", *repulsion);
+}
+
+void CloudSpec::validate() const
+{
+    requireInteger("count", count, 1, kMaxParticles);
+    const char* extent = shape == Shape::Sphere ? "radius" : shape == Shape::Box ? "halfSize" : "radii";
+    for (int axis = 0; axis < 3; ++axis) requireNumber(extent, radii[axis], 1e-9, 1e9);
+    requireNumber("particleRadius", particleRadius, 1e-9, 1e9);
+    requireNumber("mass", mass, 1e-9, 1e12);
+    requireNumber("drag", drag, 0.0, 1e6);
+}
+
+void UniformFieldSpec::validate() const
+{
+    if (box) requireBox("box", *box);
+    requireNumber("softEdge", softEdge, 0.0, 1e12);
+    require(softEdge == 0.0 || box.has_value(), "softEdge", "\"softEdge\" needs a \"box\"");
+}
+
+void SimulationOptions::validate() const
+{
+    requireNumber("cfl", cfl, 1e-3, 1.0);
+    if (domain) requireBox("domain", *domain);
+}
+
+void SimulationSetup::validate() const
+{
+    requireInteger("frames/start", firstFrame, 0, kMaxFrame);
+    requireInteger("frames/end", lastFrame, 0, kMaxFrame);
+    require(lastFrame >= firstFrame, "frames", "\"end\" comes before \"start\"");
+    requireNumber("frames/fps", fps, 1e-3, 1e4);
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < objects.size(); ++i) {
+        const std::string key = "objects/" + std::to_string(i);
+        validatePart(key, objects[i]);
+        require(names.insert(objects[i].name).second, key, "another object is already named \"" + objects[i].name + "\"");
+    }
+    require(clouds.size() <= 65535, "clouds", "at most 65535 clouds");
+    int64_t particles = 0;
+    for (std::size_t i = 0; i < clouds.size(); ++i) {
+        const std::string key = "clouds/" + std::to_string(i);
+        validatePart(key, clouds[i]);
+        particles += clouds[i].count;
+        require(particles <= kMaxParticles, key,
+                "the clouds ask for more than " + std::to_string(kMaxParticles) + " particles in all");
+    }
+    for (std::size_t i = 0; i < fields.size(); ++i) validatePart("fields/" + std::to_string(i), fields[i]);
+    validatePart("simulation", options);
+}
+
 BBoxd boxFromJson(const JsonValue& json)
 {
     JsonObject o(json);
     const Vec3d min = o.at("min").asVec3(), max = o.at("max").asVec3();
-    for (int axis = 0; axis < 3; ++axis)
-        if (!(max[axis] > min[axis])) json.fail("max must exceed min on every axis");
     o.finish();
     return BBoxd(min, max);
 }
 
 Transform transformFromJson(const JsonValue& json)
 {
-    JsonObject o(json);
-    Transform t;
-    t.translation = o.vec3("translate", t.translation);
-    t.rotation = Transform::rotationFromDegrees(o.vec3("rotateDegrees", Vec3d(0.0)));
-    t.scale = o.number("scale", 1.0, 1e-9, 1e9);
-    o.finish();
-    return t;
+    return readOptions<Transform>(json, [&](JsonObject& o, Transform& t) {
+        t.translation = o.vec3("translate", t.translation);
+        t.rotation = Transform::rotationFromDegrees(o.vec3("rotateDegrees", Vec3d(0.0)));
+        t.scale = o.number("scale", t.scale);
+    });
 }
 
 ObjectSpec objectSpecFromJson(const JsonValue& json, const std::string& baseDir)
 {
-    JsonObject o(json);
-    ObjectSpec spec;
-    spec.name = o.at("name").asString();
-    spec.mesh = meshSourceFromJson(o.at("mesh"), baseDir);
-    if (const auto t = o.find("transform")) spec.transform = transformFromJson(*t);
-    const std::string motion = o.choice("motion", "static", {"static", "dynamic"});
-    spec.isDynamic = motion == "dynamic";
-    if (const auto repulsion = o.find("repulsion")) {
-        if (repulsion->isBool()) {
-            if (repulsion->asBool()) spec.repulsion = OctreeFieldOptions{};
-            else spec.repulsion.reset();
-        } else {
-            spec.repulsion = octreeFieldOptionsFromJson(*repulsion);
+    return readOptions<ObjectSpec>(json, [&](JsonObject& o, ObjectSpec& spec) {
+        spec.name = o.at("name").asString();
+        spec.mesh = meshSourceFromJson(o.at("mesh"), baseDir);
+        if (const auto t = o.find("transform")) spec.transform = transformFromJson(*t);
+        const std::string motion = o.choice("motion", "static", {"static", "dynamic"});
+        spec.isDynamic = motion == "dynamic";
+        if (const auto repulsion = o.find("repulsion")) {
+            if (repulsion->isBool()) {
+                if (repulsion->asBool()) spec.repulsion = OctreeFieldOptions{};
+                else spec.repulsion.reset();
+            } else {
+                spec.repulsion = octreeFieldOptionsFromJson(*repulsion);
+            }
         }
-    }
-    if (spec.isDynamic) {
-        spec.mass = o.number("mass", spec.mass, 1e-9, 1e12);
-        spec.drag = o.number("drag", spec.drag, 0, 1e6);
-        spec.velocity = o.vec3("velocity", spec.velocity);
-        spec.bank = o.boolean("bank", spec.bank);
-    } else {
-        for (const char* key : {"mass", "drag", "velocity", "bank"})
-            if (o.has(key)) o.at(key).fail(std::string("\"") + key + "\" applies to dynamic objects only");
-    }
-    o.finish();
-    return spec;
+        if (spec.isDynamic) {
+            spec.mass = o.number("mass", spec.mass);
+            spec.drag = o.number("drag", spec.drag);
+            spec.velocity = o.vec3("velocity", spec.velocity);
+            spec.bank = o.boolean("bank", spec.bank);
+        } else {
+            for (const char* key : {"mass", "drag", "velocity", "bank"})
+                if (o.has(key)) o.at(key).fail(std::string("\"") + key + "\" applies to dynamic objects only");
+        }
+    });
 }
 
 CloudSpec cloudSpecFromJson(const JsonValue& json)
 {
-    JsonObject o(json);
-    CloudSpec c;
-    c.name = o.string("name", "cloud");
-    c.count = o.integer("count", c.count, 1, kMaxParticles);
-    const std::string shape = o.choice("shape", "sphere", {"sphere", "ellipsoid", "box"});
-    c.center = o.vec3("center", c.center);
-    if (shape == "sphere") {
-        c.shape = CloudSpec::Shape::Sphere;
-        c.radii = Vec3d(o.number("radius", 10.0, 1e-9, 1e9));
-    } else {
-        c.shape = shape == "box" ? CloudSpec::Shape::Box : CloudSpec::Shape::Ellipsoid;
-        const JsonValue extent = o.at(shape == "box" ? "halfSize" : "radii");
-        c.radii = extent.asVec3();
-        if (!(c.radii[0] > 0 && c.radii[1] > 0 && c.radii[2] > 0)) extent.fail("expected three positive numbers");
-    }
-    c.particleRadius = o.number("particleRadius", c.particleRadius, 1e-9, 1e9);
-    c.mass = o.number("mass", c.mass, 1e-9, 1e12);
-    c.drag = o.number("drag", c.drag, 0, 1e6);
-    c.velocity = o.vec3("velocity", c.velocity);
-    c.seed = uint64_t(o.integer("seed", int64_t(c.seed), 0, INT64_MAX));
-    o.finish();
-    return c;
+    return readOptions<CloudSpec>(json, [&](JsonObject& o, CloudSpec& c) {
+        c.name = o.string("name", "cloud");
+        c.count = o.integer64("count", c.count);
+        const std::string shape = o.choice("shape", "sphere", {"sphere", "ellipsoid", "box"});
+        c.center = o.vec3("center", c.center);
+        if (shape == "sphere") {
+            c.shape = CloudSpec::Shape::Sphere;
+            c.radii = Vec3d(o.number("radius", c.radii[0]));
+        } else {
+            c.shape = shape == "box" ? CloudSpec::Shape::Box : CloudSpec::Shape::Ellipsoid;
+            c.radii = o.at(shape == "box" ? "halfSize" : "radii").asVec3();
+        }
+        c.particleRadius = o.number("particleRadius", c.particleRadius);
+        c.mass = o.number("mass", c.mass);
+        c.drag = o.number("drag", c.drag);
+        c.velocity = o.vec3("velocity", c.velocity);
+        c.seed = o.unsignedInteger("seed", c.seed);
+    });
 }
 
 UniformFieldSpec uniformFieldSpecFromJson(const JsonValue& json)
 {
-    JsonObject o(json);
-    UniformFieldSpec f;
-    f.name = o.string("name", "field");
-    f.acceleration = o.at("acceleration").asVec3();
-    if (const auto box = o.find("box")) f.box = boxFromJson(*box);
-    f.softEdge = o.number("softEdge", 0.0, 0.0, 1e12);
-    if (f.softEdge > 0 && !f.box) o.at("softEdge").fail("\"softEdge\" needs a \"box\"");
-    o.finish();
-    return f;
+    return readOptions<UniformFieldSpec>(json, [&](JsonObject& o, UniformFieldSpec& f) {
+        f.name = o.string("name", "field");
+        f.acceleration = o.at("acceleration").asVec3();
+        if (const auto box = o.find("box")) f.box = boxFromJson(*box);
+        f.softEdge = o.number("softEdge", f.softEdge);
+    });
 }
 
 SimulationOptions simulationOptionsFromJson(const JsonValue& json)
 {
-    JsonObject o(json);
-    SimulationOptions s;
-    s.sampling = o.choice("sampling", "nearest", {"nearest", "trilinear"}) == "nearest" ? SimulationOptions::Sampling::Nearest
-                                                                                        : SimulationOptions::Sampling::Trilinear;
-    s.cfl = o.number("cfl", s.cfl, 1e-3, 1.0);
-    if (const auto domain = o.find("domain")) s.domain = boxFromJson(*domain);
-    o.finish();
-    return s;
+    return readOptions<SimulationOptions>(json, [&](JsonObject& o, SimulationOptions& s) {
+        s.sampling = o.choice("sampling", "nearest", {"nearest", "trilinear"}) == "nearest"
+                         ? SimulationOptions::Sampling::Nearest
+                         : SimulationOptions::Sampling::Trilinear;
+        s.cfl = o.number("cfl", s.cfl);
+        if (const auto domain = o.find("domain")) s.domain = boxFromJson(*domain);
+    });
 }
 
 } // namespace vfield

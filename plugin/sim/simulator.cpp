@@ -83,13 +83,9 @@ Quatd slerp(const Quatd& a, Quatd b, double t)
 Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup.firstFrame)
 {
     openvdb::initialize();
-    if (setup.lastFrame < setup.firstFrame) throw ValueError("the last frame comes before the first");
-    if (!(setup.fps > 0)) throw ValueError("fps must be positive");
+    setup.validate();
     int64_t total = 0;
     for (const CloudSpec& c : setup.clouds) total += c.count;
-    if (total > kMaxParticles)
-        throw ValueError("the clouds ask for " + std::to_string(total) + " particles (at most " + std::to_string(kMaxParticles) +
-                         ")");
 
     // Meshes and fields, objects in parallel (each build is parallel too).
     mObjects.resize(mSetup.objects.size());

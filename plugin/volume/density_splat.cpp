@@ -1,6 +1,6 @@
 #include <vfield/volume/density_splat.h>
 
-#include <vfield/core/error.h>
+#include <vfield/core/options.h>
 
 #include <openvdb/tools/Composite.h>
 
@@ -14,15 +14,32 @@
 
 namespace vfield {
 
+void VolumeOptions::validate() const
+{
+    requireNumber("voxelSize", voxelSize, 0.0, 1e9);
+    requireNumber("kernelRadius", kernelRadius, 0.0, 1e9);
+    requireNumber("densityPerParticle", densityPerParticle, 0.0, 1e12);
+    if (voxelSize > 0.0 && kernelRadius > 0.0)
+        require(kernelRadius / voxelSize <= kMaxKernelVoxels, "kernelRadius",
+                "kernel radius " + numberText(kernelRadius) + " spans more than " + numberText(kMaxKernelVoxels) + " voxels of " +
+                    numberText(voxelSize));
+}
+
+VolumeOptions VolumeOptions::resolved(double meanParticleRadius) const
+{
+    VolumeOptions r = *this;
+    if (r.voxelSize == 0.0) r.voxelSize = meanParticleRadius;
+    r.kernelRadius = std::max(r.kernelRadius > 0.0 ? r.kernelRadius : 2.0 * meanParticleRadius, r.voxelSize);
+    return r;
+}
+
 VolumeOptions volumeOptionsFromJson(const JsonValue& json)
 {
-    JsonObject o(json);
-    VolumeOptions v;
-    v.voxelSize = o.number("voxelSize", v.voxelSize, 0.0, 1e9);
-    v.kernelRadius = o.number("kernelRadius", v.kernelRadius, 0.0, 1e9);
-    v.densityPerParticle = o.number("densityPerParticle", v.densityPerParticle, 0.0, 1e12);
-    o.finish();
-    return v;
+    return readOptions<VolumeOptions>(json, [&](JsonObject& o, VolumeOptions& v) {
+        v.voxelSize = o.number("voxelSize", v.voxelSize);
+        v.kernelRadius = o.number("kernelRadius", v.kernelRadius);
+        v.densityPerParticle = o.number("densityPerParticle", v.densityPerParticle);
+    });
 }
 
 namespace {
@@ -53,11 +70,10 @@ DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& o
     double meanRadius = 0.0;
     for (const float r : particles.radius) meanRadius += r;
     meanRadius = particles.size() > 0 ? meanRadius / double(particles.size()) : 1.0;
-    const double voxel = options.voxelSize > 0 ? options.voxelSize : meanRadius;
-    const double radius = std::max(options.kernelRadius > 0 ? options.kernelRadius : 2.0 * meanRadius, voxel);
-    if (radius / voxel > 32.0)
-        throw ValueError("kernel radius " + std::to_string(radius) + " spans more than 32 voxels of " + std::to_string(voxel));
-    const double norm = options.densityPerParticle * 315.0 / (64.0 * M_PI * radius * radius * radius);
+    const VolumeOptions resolved = options.resolved(meanRadius);
+    resolved.validate();
+    const double voxel = resolved.voxelSize, radius = resolved.kernelRadius;
+    const double norm = resolved.densityPerParticle * 315.0 / (64.0 * M_PI * radius * radius * radius);
 
     const auto transform = openvdb::math::Transform::createLinearTransform(voxel);
     const int reach = int(std::ceil(radius / voxel));

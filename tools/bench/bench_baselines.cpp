@@ -10,9 +10,9 @@
 #include "bench_showcase.h"
 
 #include <vfield/core/atomic_file.h>
-#include <vfield/render/df3.h>
-#include <vfield/render/povray_runner.h>
-#include <vfield/render/povray_scene.h>
+#include <vfield/render/povray/df3.h>
+#include <vfield/render/povray/povray_runner.h>
+#include <vfield/render/povray/povray_scene.h>
 
 #include <benchmark/benchmark.h>
 
@@ -160,15 +160,11 @@ void BM_PovrayFrame(benchmark::State& state)
     writeTextAtomically(dir + "/meshes.inc",
                         povrayMeshesText({{0, &s.terrain, SurfaceMaterial::Terrain, Transform{}}},
                                          s.surfaces.staticBounds().min()[1], s.surfaces.staticBounds().max()[1]));
-    PovrayOptions options;
-    options.width = width;
-    options.height = height;
-    options.samplesPerPixel = int(state.range(2));
-    options.threads = 2;
+    const RenderSettings settings = s.settings(width, height, int(state.range(2)));
     for (auto _ : state) {
-        const CloudVolume volume(s.density, s.scene.render.image, s.scene.render.sun.direction, &s.surfaces);
+        const CloudLighting lighting(s.density, settings.medium, settings.sun.direction, s.sunBlocked());
         PovrayFrame frame;
-        frame.settings = &s.scene.render;
+        frame.settings = &settings;
         frame.camera = Camera::fromSettings(s.scene.render.camera, width, height);
         frame.frame = 100;
         frame.meshInclude = "meshes.inc";
@@ -177,11 +173,10 @@ void BM_PovrayFrame(benchmark::State& state)
         cloud.df3File = "density.df3";
         cloud.placement = writeDf3(*s.density, dir + "/density.df3");
         cloud.skyLitDf3File = "sky_lit.df3";
-        cloud.skyLitPlacement = writeDf3(*volume.skyLitDensity(), dir + "/sky_lit.df3");
-        cloud.volumeStep = s.scene.render.image.volumeStep;
+        cloud.skyLitPlacement = writeDf3(*lighting.skyLitDensity(), dir + "/sky_lit.df3");
         frame.cloud = cloud;
         writeTextAtomically(dir + "/frame.pov", povrayFrameText(frame));
-        runPovray(dir, "frame.pov", "frame.png", options);
+        runPovray(dir, "frame.pov", "frame.png", settings.image, 2);
     }
 }
 BENCHMARK(BM_PovrayFrame)

@@ -13,7 +13,8 @@ namespace {
 void BM_RenderSurfaces(benchmark::State& state)
 {
     ShowcaseFrame& s = showcase();
-    const FrameToRender frame = s.frame(int(state.range(0)), int(state.range(1)), int(state.range(2)), nullptr);
+    const RenderSettings settings = s.settings(int(state.range(0)), int(state.range(1)), int(state.range(2)));
+    const FrameToRender frame = s.frame(settings, nullptr);
     for (auto _ : state) benchmark::DoNotOptimize(renderFrame(frame));
     state.counters["primary_rays_per_s"] = benchmark::Counter(double(state.range(0) * state.range(1) * state.range(2)),
                                                               benchmark::Counter::kIsIterationInvariantRate);
@@ -35,11 +36,12 @@ BENCHMARK(BM_RenderSurfaces)
 void BM_RenderCloud(benchmark::State& state)
 {
     ShowcaseFrame& s = showcase();
-    ImageSettings image = s.scene.render.image;
-    image.skipEmptySpace = state.range(3) != 0;
+    RenderSettings settings = s.settings(int(state.range(0)), int(state.range(1)), int(state.range(2)));
+    settings.integrator.skipEmptySpace = state.range(3) != 0;
     for (auto _ : state) {
-        const CloudVolume volume(s.density, image, s.scene.render.sun.direction, &s.surfaces);
-        benchmark::DoNotOptimize(renderFrame(s.frame(int(state.range(0)), int(state.range(1)), int(state.range(2)), &volume)));
+        const CloudLighting lighting(s.density, settings.medium, settings.sun.direction, s.sunBlocked());
+        const CloudVolume volume(lighting, settings.medium, settings.integrator);
+        benchmark::DoNotOptimize(renderFrame(s.frame(settings, &volume)));
     }
 }
 BENCHMARK(BM_RenderCloud)

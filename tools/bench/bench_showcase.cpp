@@ -1,9 +1,9 @@
 #include "bench_showcase.h"
 
-#include <vfield/core/vdb_file.h>
 #include <vfield/scene/simulation_run.h>
 
 #include <filesystem>
+#include <limits>
 #include <map>
 
 namespace vfield::bench {
@@ -26,33 +26,46 @@ ShowcaseFrame::ShowcaseFrame() : scene(loadScene(VFIELD_SCENES_DIR "/cloud_over_
 {
     // Simulated once into a temporary folder, reused by later runs.
     const std::string dir = (std::filesystem::temp_directory_path() / "vfield-bench-render").string();
-    const std::string frame = dir + "/" + frameFileName("density", 100, "vdb");
-    if (!std::filesystem::exists(frame)) {
+    const SimFolder folder(dir);
+    if (!std::filesystem::exists(folder.densityFile(100))) {
         std::filesystem::remove_all(dir);
         simulateScene(scene, dir, {100, 100, {}});
     }
-    density = openvdb::gridPtrCast<openvdb::FloatGrid>(readVdb(frame).at(0));
+    density = folder.readDensity(100);
     terrain = makeMesh(scene.simulation.objects[0].mesh);
     terrain.transform(scene.simulation.objects[0].transform.matrix());
     surfaces.addStatic(0, terrain, Transform{});
     surfaces.commit();
 }
 
-FrameToRender ShowcaseFrame::frame(int width, int height, int spp, const CloudVolume* volume)
+RenderSettings ShowcaseFrame::settings(int width, int height, int spp) const
+{
+    RenderSettings settings = scene.render;
+    settings.image.width = width;
+    settings.image.height = height;
+    settings.image.samplesPerPixel = spp;
+    return settings;
+}
+
+FrameToRender ShowcaseFrame::frame(const RenderSettings& settings, const CloudVolume* volume)
 {
     FrameToRender f;
-    f.settings = &scene.render;
+    f.settings = &settings;
     f.surfaces = &surfaces;
     f.materials[0] = SurfaceMaterial::Terrain;
     f.volume = volume;
-    f.width = width;
-    f.height = height;
-    f.samplesPerPixel = spp;
     f.frame = 100;
-    f.camera = Camera::fromSettings(scene.render.camera, width, height);
+    f.camera = Camera::fromSettings(settings.camera, settings.image.width, settings.image.height);
     f.terrainLow = surfaces.staticBounds().min()[1];
     f.terrainHigh = surfaces.staticBounds().max()[1];
     return f;
+}
+
+CloudLighting::Occlusion ShowcaseFrame::sunBlocked() const
+{
+    return [this](const Vec3d& origin, const Vec3d& dir) {
+        return surfaces.occluded(origin, dir, 1e-3, std::numeric_limits<double>::max());
+    };
 }
 
 ShowcaseFrame& showcase()

@@ -3,7 +3,7 @@
 // terrain), shared by the benchmarks: the simulator there, and the renderer's
 // surfaces, density and camera.
 
-#include <vfield/render/renderer.h>
+#include <vfield/render/embree/renderer.h>
 #include <vfield/scene/scene.h>
 #include <vfield/sim/simulator.h>
 
@@ -29,7 +29,12 @@ struct ShowcaseFrame {
     openvdb::FloatGrid::Ptr density;
 
     ShowcaseFrame();
-    FrameToRender frame(int width, int height, int spp, const CloudVolume* volume);
+    /// The scene's render settings at another image size and sample count.
+    RenderSettings settings(int width, int height, int spp) const;
+    /// The frame to render with settings (which must outlive it).
+    FrameToRender frame(const RenderSettings& settings, const CloudVolume* volume);
+    /// The sun's occlusion by the terrain, for the cloud's lighting.
+    CloudLighting::Occlusion sunBlocked() const;
 };
 
 /// Built once.

@@ -5,42 +5,9 @@
 
 #include <vfield/core/error.h>
 #include <vfield/scene/scene.h>
-
-#include <nlohmann/json.hpp>
-
-#include <filesystem>
-#include <fstream>
+#include <vfield/scene/sim_folder.h>
 
 namespace vfield::cli {
-
-namespace {
-
-/// The pose of a dynamic object at a frame, from a simulation's tracks.json.
-Transform poseFromTracks(const std::string& simDir, const std::string& object, int frame, double scale)
-{
-    const std::string path = (std::filesystem::path(simDir) / "tracks.json").string();
-    std::ifstream in(path);
-    if (!in) throw FileError(path, "cannot open for reading (simulate the scene first)");
-    nlohmann::json tracks;
-    try {
-        in >> tracks;
-        for (const nlohmann::json& entry : tracks.at("objects").at(object)) {
-            if (entry.at("frame").get<int>() != frame) continue;
-            Transform pose;
-            const auto p = entry.at("position").get<std::vector<double>>();
-            const auto q = entry.at("orientation").get<std::vector<double>>();
-            pose.translation = Vec3d(p.at(0), p.at(1), p.at(2));
-            pose.rotation = Quatd(q.at(0), q.at(1), q.at(2), q.at(3));
-            pose.scale = scale;
-            return pose;
-        }
-    } catch (const nlohmann::json::exception& e) {
-        throw FileError(path, std::string("unreadable tracks: ") + e.what());
-    }
-    throw FileError(path, "no track of \"" + object + "\" at frame " + std::to_string(frame));
-}
-
-} // namespace
 
 Runner registerExportMesh(CLI::App& app, const GlobalOptions& global)
 {
@@ -68,7 +35,9 @@ Runner registerExportMesh(CLI::App& app, const GlobalOptions& global)
             mesh.transform(spec->transform.matrix());
         } else if (command->count("--frame") > 0) {
             if (o->sim.empty()) throw ValueError("--frame places a dynamic object from a simulation: give --sim DIR");
-            mesh.transform(poseFromTracks(o->sim, o->object, o->frame, spec->transform.scale).matrix());
+            Transform pose = SimFolder(o->sim).readTracks().pose(o->object, o->frame);
+            pose.scale = spec->transform.scale;
+            mesh.transform(pose.matrix());
         }
         saveObj(mesh, o->output);
         log(global, o->output + ": " + std::to_string(mesh.triangleCount()) + " triangles");

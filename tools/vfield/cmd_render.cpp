@@ -1,5 +1,6 @@
 // vfield render SCENE --sim DIR -o OUT: image sequences of a simulated scene.
 
+#include "cli_values.h"
 #include "command.h"
 #include "progress.h"
 #include "scene_cli_options.h"
@@ -18,15 +19,16 @@ namespace vfield::cli {
 namespace {
 
 struct RenderCliOptions {
-    std::string frames, resolution, formats = "png", backend = "embree";
-    int spp = 0, threads = 0, povrayThreads = 0;
+    std::optional<FrameRange> frames;
+    ImageOverrides image;
+    std::string formats = "png", backend = "embree";
+    int threads = 0, povrayThreads = 0;
     bool force = false, keepScene = false;
 };
 
 void addRenderOptions(CLI::App& command, RenderCliOptions& o)
 {
-    command.add_option("--frames", o.frames, "Frames to render, A-B or A [default: the scene's range]")
-        ->check(frameRangeValidator());
+    addFrameRangeOption(command, o.frames, "Frames to render, A-B or A [default: the scene's range]");
     command
         .add_option("--backend", o.backend,
                     "Renderer: embree (vfield's own), povray (POV-Ray 3.7), or both (adds OUT/embree/, OUT/povray/ and "
@@ -38,15 +40,7 @@ void addRenderOptions(CLI::App& command, RenderCliOptions& o)
         .add_option("--povray-threads", o.povrayThreads,
                     "POV-Ray's render threads; 1 makes its media noise reproducible [default: as --threads]")
         ->check(CLI::PositiveNumber);
-    command.add_option("--resolution", o.resolution, "Image size WxH [default: the scene's]")->check([](const std::string& text) {
-        int w = 0, h = 0;
-        char x = 0;
-        std::istringstream in(text);
-        return (in >> w >> x >> h) && x == 'x' && w > 0 && h > 0 && w <= 16384 && h <= 16384 && in.eof()
-                   ? std::string()
-                   : "expected WxH, e.g. 1280x720, got '" + text + "'";
-    });
-    command.add_option("--spp", o.spp, "Samples per pixel [default: the scene's]")->check(CLI::Range(1, 65536));
+    addImageOverrideOptions(command, o.image);
     command.add_option("--format", o.formats, "png, exr or png,exr")
         ->check(CLI::IsMember({"png", "exr", "png,exr", "exr,png"}))
         ->capture_default_str();
@@ -57,19 +51,10 @@ void addRenderOptions(CLI::App& command, RenderCliOptions& o)
 RenderRunOptions toRunOptions(const RenderCliOptions& o, const CLI::App& command)
 {
     RenderRunOptions options;
-    if (command.count("--frames") > 0) {
-        int first = 0, last = 0;
-        parseFrameRange(o.frames, first, last); // validated while parsing
-        options.firstFrame = first;
-        options.lastFrame = last;
+    if (o.frames) {
+        options.firstFrame = o.frames->first;
+        options.lastFrame = o.frames->last;
     }
-    if (command.count("--resolution") > 0) {
-        int w = 0, h = 0;
-        std::sscanf(o.resolution.c_str(), "%dx%d", &w, &h);
-        options.width = w;
-        options.height = h;
-    }
-    if (command.count("--spp") > 0) options.samplesPerPixel = o.spp;
     options.formats.clear();
     std::istringstream list(o.formats);
     for (std::string format; std::getline(list, format, ',');) options.formats.push_back(format);
@@ -80,6 +65,15 @@ RenderRunOptions toRunOptions(const RenderCliOptions& o, const CLI::App& command
                                             : RenderBackend::Embree;
     if (command.count("--povray-threads") > 0) options.povrayThreads = o.povrayThreads;
     return options;
+}
+
+/// The scene with the command line's image overrides applied: the one copy of
+/// the render settings that every back-end reads.
+Scene sceneToRender(const SceneCliOptions& sceneOptions, const RenderCliOptions& o)
+{
+    Scene scene = loadScene(sceneOptions);
+    o.image.applyTo(scene.render.image);
+    return scene;
 }
 
 void renderWithProgress(const Scene& scene, const std::string& simDir, const std::string& output, RenderRunOptions options,
@@ -120,7 +114,7 @@ Runner registerRender(CLI::App& app, const GlobalOptions& global)
 
     return [o, command, &global] {
         const auto threads = limitThreads(o->render.threads);
-        renderWithProgress(loadScene(o->scene), o->sim, o->output, toRunOptions(o->render, *command), global);
+        renderWithProgress(sceneToRender(o->scene, o->render), o->sim, o->output, toRunOptions(o->render, *command), global);
     };
 }
 
@@ -140,7 +134,7 @@ Runner registerRun(CLI::App& app, const GlobalOptions& global)
 
     return [o, command, &global] {
         const auto threads = limitThreads(o->render.threads);
-        const Scene scene = loadScene(o->scene);
+        const Scene scene = sceneToRender(o->scene, o->render);
         const RenderRunOptions options = toRunOptions(o->render, *command);
         SimulateOptions simulate;
         simulate.firstFrame = options.firstFrame;

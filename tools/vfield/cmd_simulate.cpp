@@ -1,6 +1,7 @@
 // vfield simulate SCENE -o DIR: the scene's animation as OpenVDB volumes and
 // particles per frame, with tracks and statistics.
 
+#include "cli_values.h"
 #include "command.h"
 #include "progress.h"
 #include "scene_cli_options.h"
@@ -29,26 +30,24 @@ Runner registerSimulate(CLI::App& app, const GlobalOptions& global)
 {
     struct Options {
         SceneCliOptions scene;
-        std::string output, frames;
+        std::string output;
+        std::optional<FrameRange> frames;
         int threads = 0;
     };
     auto o = std::make_shared<Options>();
     CLI::App* command = app.add_subcommand("simulate", "Animate a scene and write OpenVDB volumes and particles per frame");
     addSceneOptions(*command, o->scene);
     command->add_option("-o,--output", o->output, "Output folder (resumes a run of the same scene found there)")->required();
-    command->add_option("--frames", o->frames, "Frames to write, A-B or A [default: the scene's range]")
-        ->check(frameRangeValidator());
+    addFrameRangeOption(*command, o->frames, "Frames to write, A-B or A [default: the scene's range]");
     command->add_option("--threads", o->threads, "Worker threads [default: all cores]")->check(CLI::PositiveNumber);
 
-    return [o, command, &global] {
+    return [o, &global] {
         const auto threads = limitThreads(o->threads);
         const Scene scene = loadScene(o->scene);
         SimulateOptions options;
-        if (command->count("--frames") > 0) {
-            int first = 0, last = 0;
-            parseFrameRange(o->frames, first, last); // validated while parsing
-            options.firstFrame = first;
-            options.lastFrame = last;
+        if (o->frames) {
+            options.firstFrame = o->frames->first;
+            options.lastFrame = o->frames->last;
         }
         ProgressLine progress(global.quiet);
         options.progress = [&progress](const FrameProgress& p) {
@@ -57,6 +56,8 @@ Runner registerSimulate(CLI::App& app, const GlobalOptions& global)
         };
         const SimulateSummary summary = simulateScene(scene, o->output, options);
         for (const std::string& warning : summary.warnings) log(global, "warning: " + warning);
+        if (summary.restartedStale)
+            log(global, o->output + " held a simulation of an earlier edit of the scene or its meshes: simulated afresh");
         if (summary.resumedAfterFrame >= 0) log(global, "resumed after frame " + std::to_string(summary.resumedAfterFrame));
         log(global, "clearance of particles: " + describe(summary.worstParticles));
         log(global, "clearance of dynamic objects' vertices: " + describe(summary.worstDynamic));

@@ -1,7 +1,6 @@
 #include "progress.h"
 
 #include <cstdio>
-#include <stdexcept>
 #include <unistd.h>
 
 namespace vfield::cli {
@@ -22,34 +21,6 @@ void ProgressLine::update(int done, int total, double elapsed, const std::string
                  detail.c_str(), elapsed, seconds / 60, seconds % 60, mIsTerminal ? "" : "\n");
     std::fflush(stderr);
     mOpenLine = mIsTerminal;
-}
-
-std::string parseFrameRange(const std::string& text, int& first, int& last)
-{
-    const std::size_t dash = text.find('-', 1);
-    try {
-        std::size_t used = 0;
-        first = std::stoi(text.substr(0, dash), &used);
-        if (used != (dash == std::string::npos ? text.size() : dash)) throw std::invalid_argument(text);
-        last = first;
-        if (dash != std::string::npos) {
-            const std::string tail = text.substr(dash + 1);
-            last = std::stoi(tail, &used);
-            if (used != tail.size()) throw std::invalid_argument(text);
-        }
-    } catch (const std::exception&) {
-        return "expected A-B or A, got '" + text + "'";
-    }
-    if (last < first) return "the range " + text + " ends before it starts";
-    return {};
-}
-
-std::function<std::string(const std::string&)> frameRangeValidator()
-{
-    return [](const std::string& text) {
-        int first = 0, last = 0;
-        return parseFrameRange(text, first, last);
-    };
 }
 
 } // namespace vfield::cli

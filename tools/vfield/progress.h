@@ -3,7 +3,6 @@
 // On a terminal one line is rewritten in place; otherwise plain lines, so logs
 // stay readable. Silent with --quiet.
 
-#include <functional>
 #include <string>
 
 namespace vfield::cli {
@@ -19,10 +18,5 @@ private:
     bool mQuiet, mIsTerminal;
     bool mOpenLine = false;
 };
-
-/// "A-B" or "A" -> a frame range; returns what is wrong, empty on success.
-std::string parseFrameRange(const std::string& text, int& first, int& last);
-/// The same check for CLI11, so that a bad range is a usage error found while parsing.
-std::function<std::string(const std::string&)> frameRangeValidator();
 
 } // namespace vfield::cli

@@ -43,4 +43,19 @@ public:
     explicit ValueError(const std::string& message) : Error(message) {}
 };
 
+/// An option of an options struct is out of range (thrown by the structs'
+/// validate()). key() names it as a scene file does, as a path below the
+/// struct when it is nested ("surfaceBoost", "cells/0", "clouds/2/count"), so a
+/// scene reader reports it at its JSON path (see validateAt in json.h).
+/// An empty key names the struct itself. what() = "<key>: <detail>".
+class OptionError : public ValueError {
+public:
+    OptionError(const std::string& key, const std::string& detail);
+    const std::string& key() const { return mKey; }
+    const std::string& detail() const { return mDetail; } ///< e.g. "expected a number within [1, 1e+12], got 0.5"
+
+private:
+    std::string mKey, mDetail;
+};
+
 } // namespace vfield

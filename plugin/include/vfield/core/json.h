@@ -5,12 +5,17 @@
 /// ("cloud.json: /clouds/0/count: expected a positive integer, got -5");
 /// a syntax error names its line and column; and a key nobody asked for is an
 /// error, so a misspelt key is never silently ignored.
+///
+/// Readers check kinds here (a number, an integer, [x, y, z]); ranges belong to
+/// the options structs (their validate(), core/options.h), and validateAt
+/// reports a failure there at the option's JSON path.
 
 #include <vfield/core/math.h>
 
 #include <nlohmann/json_fwd.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <set>
@@ -39,9 +44,12 @@ public:
     bool isBool() const;
     bool isArray() const;
 
-    double asNumber() const;                       ///< any finite number
-    double asNumber(double min, double max) const; ///< a finite number within [min, max]
+    double asNumber() const; ///< any finite number
+    /// An integer within the limits of the type it is stored in (a kind
+    /// check: ranges of meaning belong to validate()).
     int64_t asInteger(int64_t min, int64_t max) const;
+    int asInt() const;           ///< an integer that fits an int
+    uint64_t asUnsigned() const; ///< an integer >= 0 (seeds)
     bool asBool() const;
     std::string asString() const;
     /// One of the given names, e.g. {"nearest", "trilinear"}.
@@ -77,8 +85,10 @@ public:
     JsonValue at(const std::string& key);
 
     // Typed reads with a default for a missing key.
-    double number(const std::string& key, double fallback, double min, double max);
-    int64_t integer(const std::string& key, int64_t fallback, int64_t min, int64_t max);
+    double number(const std::string& key, double fallback);
+    int integer(const std::string& key, int fallback);
+    int64_t integer64(const std::string& key, int64_t fallback);
+    uint64_t unsignedInteger(const std::string& key, uint64_t fallback);
     bool boolean(const std::string& key, bool fallback);
     std::string string(const std::string& key, const std::string& fallback);
     std::string choice(const std::string& key, const std::string& fallback, const std::vector<std::string>& choices);
@@ -91,6 +101,24 @@ private:
     JsonValue mValue;
     std::set<std::string> mRead;
 };
+
+/// Runs validate (an options struct's check); an OptionError it throws becomes
+/// a ParseError at the option's path below json ("s.json: /clouds/0/count: ...").
+void validateAt(const JsonValue& json, const std::function<void()>& validate);
+
+/// Reads an options struct from a JSON object: starting from the struct's
+/// defaults, readKeys(object, options) takes the keys it knows; any other key
+/// is an error, and the struct's validate() is reported at its JSON path.
+template<typename Options, typename ReadKeys>
+Options readOptions(const JsonValue& json, ReadKeys&& readKeys)
+{
+    JsonObject object(json);
+    Options options;
+    readKeys(object, options);
+    object.finish();
+    validateAt(json, [&] { options.validate(); });
+    return options;
+}
 
 /// Parses a JSON file. Throws FileError if it cannot be read, ParseError with
 /// "line L, column C" for a syntax error.

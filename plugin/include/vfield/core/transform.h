@@ -24,7 +24,7 @@ inline Vec3d rotate(const Quatd& q, const Vec3d& v)
 struct Transform {
     Vec3d translation{0.0, 0.0, 0.0};   ///< world units
     Quatd rotation = Quatd::identity(); ///< unit quaternion
-    double scale = 1.0;                 ///< uniform, > 0
+    double scale = 1.0;                 ///< uniform (1e-9..1e9)
 
     /// From Euler angles in degrees: about x, then y, then z.
     static Quatd rotationFromDegrees(const Vec3d& degrees);
@@ -37,6 +37,8 @@ struct Transform {
     /// The same map as an OpenVDB row-vector matrix (p * M).
     Mat4d matrix() const;
     bool isIdentity() const;
+    /// Throws OptionError unless scale is within its range.
+    void validate() const;
 };
 
 } // namespace vfield

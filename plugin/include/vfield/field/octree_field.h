@@ -32,14 +32,14 @@ namespace vfield {
 
 struct OctreeFieldOptions {
     /// Dead space between the mesh's bounding box and the root cube on every
-    /// side, object-space units (>= 0). Unset: 10% of the largest extent.
+    /// side, object-space units (0..1e12). Unset: 10% of the largest extent.
     std::optional<double> margin;
-    int maxPerLeaf = 6;         ///< the paper's N: a node with more triangles is split (>= 1)
+    int maxPerLeaf = 6;         ///< the paper's N: a node with more triangles is split (1..2^20)
     int maxLevel = 8;           ///< deepest level; the root is level 1 (1..20)
-    double strength = 1.0;      ///< magnitude per level, acceleration units (>= 0)
-    double surfaceBoost = 10.0; ///< magnitude factor in leaves that hold triangles (>= 1)
+    double strength = 1.0;      ///< magnitude per level, acceleration units (0..1e12)
+    double surfaceBoost = 10.0; ///< magnitude factor in leaves that hold triangles (1..1e12)
 
-    /// Throws ValueError naming the first option out of range.
+    /// Throws OptionError naming the first option out of range.
     void validate() const;
 };
 

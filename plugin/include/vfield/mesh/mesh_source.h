@@ -19,14 +19,17 @@ struct MeshSource {
     TerrainOptions terrain;
     SphereOptions sphere;
     BoxOptions box;
-    double tessellateEdge = 0.0; ///< split edges longer than this, object units; 0: off
+    double tessellateEdge = 0.0; ///< split edges longer than this, object units (0..1e12); 0: off
+
+    /// Throws OptionError naming the first option out of range ("tessellate",
+    /// "terrain/octaves", ...).
+    void validate() const;
 };
 
 /// {"file": "meshes/plane.obj"} | {"terrain": {...}} | {"sphere": {...}} | {"box": {...}},
 /// each with an optional "tessellate": edge length. Relative paths are
 /// resolved against baseDir.
 MeshSource meshSourceFromJson(const JsonValue& json, const std::string& baseDir);
-TerrainOptions terrainOptionsFromJson(const JsonValue& json);
 
 /// Loads or generates the mesh; zero-area triangles are dropped (counted in report).
 TriangleMesh makeMesh(const MeshSource& source, MeshLoadReport* report = nullptr);

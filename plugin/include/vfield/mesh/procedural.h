@@ -16,9 +16,12 @@ namespace vfield {
 /// Catmull-Rom curve, so a few points describe a winding canyon.
 struct TerrainCarve {
     std::vector<Vec2d> path;    ///< (x, z) points, world units; at least two
-    double halfWidth = 10.0;    ///< distance from the path at which the cut ends, world units (> 0)
-    double depth = 10.0;        ///< how far the path's centre line is lowered, world units (< 0 raises a ridge)
-    double wallSharpness = 1.0; ///< profile shape: 1 a smooth valley, larger values steeper walls and a flatter floor (>= 1)
+    double halfWidth = 10.0;    ///< distance from the path at which the cut ends, world units (1e-9..1e12)
+    double depth = 10.0;        ///< how far the path's centre line is lowered, world units (-1e12..1e12; < 0 raises a ridge)
+    double wallSharpness = 1.0; ///< profile shape: 1 a smooth valley, larger values steeper walls and a flatter floor (1..100)
+
+    /// Throws OptionError naming the first option out of range.
+    void validate() const;
 };
 
 /// A heightfield over [-sizeX/2, sizeX/2] x [-sizeZ/2, sizeZ/2], heights along +y.
@@ -26,35 +29,46 @@ struct TerrainCarve {
 /// The solid is the surface, four vertical skirts and a bottom plane
 /// `baseThickness` below the lowest surface point.
 struct TerrainOptions {
+    static constexpr int kMaxCellsPerAxis = 8192;
+    static constexpr double kMaxCells = 64e6; ///< in all: cellsX x cellsZ
+
     uint64_t seed = 1;                ///< noise seed; the same seed gives the same terrain on every machine
-    double sizeX = 200.0;             ///< extent along x, world units (> 0)
-    double sizeZ = 200.0;             ///< extent along z, world units (> 0)
-    int cellsX = 128;                 ///< grid cells along x (>= 1); the surface has 2 * cellsX * cellsZ triangles
-    int cellsZ = 128;                 ///< grid cells along z (>= 1)
-    double amplitude = 30.0;          ///< height of the noise, world units (>= 0); heights span about [0, amplitude]
-    double featureSize = 80.0;        ///< wavelength of the coarsest noise octave, world units (> 0)
+    double sizeX = 200.0;             ///< extent along x, world units (1e-9..1e12)
+    double sizeZ = 200.0;             ///< extent along z, world units (1e-9..1e12)
+    int cellsX = 128;                 ///< grid cells along x (1..kMaxCellsPerAxis); the surface has 2 * cellsX * cellsZ triangles
+    int cellsZ = 128;                 ///< grid cells along z (1..kMaxCellsPerAxis), at most kMaxCells in all
+    double amplitude = 30.0;          ///< height of the noise, world units (0..1e9); heights span about [0, amplitude]
+    double featureSize = 80.0;        ///< wavelength of the coarsest noise octave, world units (1e-9..1e12)
     int octaves = 5;                  ///< noise octaves (1..16)
     double roughness = 0.5;           ///< amplitude ratio of successive octaves (0..1)
-    double baseThickness = 10.0;      ///< depth of the solid below the lowest surface point, world units (> 0)
+    double baseThickness = 10.0;      ///< depth of the solid below the lowest surface point, world units (1e-9..1e12)
     std::vector<TerrainCarve> carves; ///< valleys, canyons and ridges, applied in order
+
+    /// Throws OptionError naming the first option out of range (keys as in a
+    /// scene file: "size/0", "cells/1", "carves/2/halfWidth", ...).
+    void validate() const;
 };
 
-/// Throws ValueError naming the first option out of range.
-void validate(const TerrainOptions& options);
 /// The surface height at (x, z): the same function the mesh samples.
 double terrainHeight(const TerrainOptions& options, double x, double z);
 TriangleMesh makeTerrain(const TerrainOptions& options);
 
 struct SphereOptions {
     Vec3d center{0.0, 0.0, 0.0}; ///< world units
-    double radius = 1.0;         ///< world units (> 0)
+    double radius = 1.0;         ///< world units (1e-12..1e12)
     int subdivisions = 3;        ///< icosahedron subdivisions (0..8): 20 * 4^n triangles
+
+    /// Throws OptionError naming the first option out of range.
+    void validate() const;
 };
 TriangleMesh makeSphere(const SphereOptions& options);
 
 struct BoxOptions {
     Vec3d min{-1.0, -1.0, -1.0}; ///< world units
     Vec3d max{1.0, 1.0, 1.0};    ///< world units (> min on every axis)
+
+    /// Throws OptionError unless max exceeds min on every axis.
+    void validate() const;
 };
 TriangleMesh makeBox(const BoxOptions& options);
 

@@ -1,16 +1,24 @@
 #pragma once
 /// @file frame_image.h
-/// RenderImage -> image files through OpenImageIO, atomically:
-/// .png: 8-bit sRGB colour (the sky included); .exr: linear half-float
-/// R, G, B, A and Z (camera distance, +inf for sky).
-
-#include <vfield/render/renderer.h>
+/// A rendered frame (RenderImage, what a back-end produces) -> image files
+/// through OpenImageIO, atomically: .png: 8-bit sRGB colour (the sky
+/// included); .exr: linear half-float R, G, B, A and Z (camera distance, +inf
+/// for sky).
 
 #include <OpenImageIO/imagebuf.h>
 
 #include <string>
+#include <vector>
 
 namespace vfield {
+
+struct RenderImage {
+    int width = 0, height = 0;
+    /// Linear RGB, the sky included; A is the coverage by surfaces and cloud
+    /// (0 for clear sky, between 0 and 1 through thin cloud).
+    std::vector<float> rgba;
+    std::vector<float> depth; ///< camera distance to the first surface; +inf for sky
+};
 
 /// The display image: sRGB-encoded RGB, floats in [0, 1].
 OIIO::ImageBuf toDisplay(const RenderImage& image);

@@ -1,8 +1,11 @@
 #pragma once
 /// @file render_settings.h
-/// How a scene is to be seen: camera, sun, sky and image settings, as typed
-/// options parsed from the scene file. Right-handed, y up; the camera looks
-/// from position towards lookAt with a vertical field of view in degrees.
+/// How a scene is to be seen, as typed options parsed from the scene file:
+/// camera, sun and sky; the image (its size and samples); the cloud as a
+/// medium; and how the volume is integrated. Right-handed, y up; the camera
+/// looks from position towards lookAt with a vertical field of view in degrees.
+/// Every back-end reads these, and only these: command-line overrides
+/// (--resolution, --spp) are applied to a copy of them before rendering.
 
 #include <vfield/core/json.h>
 
@@ -14,38 +17,63 @@ namespace vfield {
 struct CameraSettings {
     Vec3d position{0.0, 50.0, 200.0}; ///< world units
     Vec3d lookAt{0.0, 0.0, 0.0};      ///< world point at the image centre
-    Vec3d up{0.0, 1.0, 0.0};
-    double fovDegrees = 45.0; ///< vertical field of view (0..180)
+    Vec3d up{0.0, 1.0, 0.0};          ///< non-zero
+    double fovDegrees = 45.0;         ///< vertical field of view (1e-3..179)
     /// Follow a dynamic object: the camera sits at the object's position plus
     /// offset, given in the object's heading frame (x forward, y up, z right:
     /// -x is behind it), and looks at the object; it moves in front of any
     /// surface between itself and the object.
     std::optional<std::string> followObject;
     Vec3d followOffset{-30.0, 10.0, 0.0};
+
+    /// Throws OptionError naming the first option out of range.
+    void validate() const;
 };
 
 struct SunSettings {
-    Vec3d direction{0.4, 0.8, 0.3}; ///< towards the sun (normalized on use)
-    Vec3d color{1.0, 0.96, 0.9};    ///< linear RGB
-    double intensity = 3.0;         ///< radiance scale of the sun's light
+    Vec3d direction{0.4, 0.8, 0.3}; ///< towards the sun (non-zero; normalized on use)
+    Vec3d color{1.0, 0.96, 0.9};    ///< linear RGB, >= 0
+    double intensity = 3.0;         ///< radiance scale of the sun's light (0..1e6)
+
+    void validate() const;
 };
 
 struct SkySettings {
-    Vec3d zenithColor{0.12, 0.28, 0.75}; ///< linear RGB
-    Vec3d horizonColor{0.55, 0.68, 0.9}; ///< linear RGB
-    double intensity = 1.0;
+    Vec3d zenithColor{0.12, 0.28, 0.75}; ///< linear RGB, >= 0
+    Vec3d horizonColor{0.55, 0.68, 0.9}; ///< linear RGB, >= 0
+    double intensity = 1.0;              ///< (0..1e6)
+
+    void validate() const;
 };
 
+/// The picture: its size and how many samples each pixel averages.
 struct ImageSettings {
-    int width = 640, height = 360; ///< pixels
-    int samplesPerPixel = 4;
-    double volumeStep = 0.5; ///< ray-march step in the volume, world units
-    double extinction = 1.0; ///< sigma_t per unit density, 1 / world units
+    static constexpr int kMaxResolution = 16384; ///< pixels along either side
+
+    int width = 640, height = 360; ///< pixels (1..kMaxResolution)
+    int samplesPerPixel = 4;       ///< (1..65536)
+
+    /// Keys as in a scene file's "render": "resolution/0", "samplesPerPixel".
+    void validate() const;
+};
+
+/// The cloud as a participating medium: density x extinction is sigma_t.
+struct MediumSettings {
+    double extinction = 1.0; ///< sigma_t per unit density, 1 / world units (0..1e9)
     double albedo = 0.9;     ///< scattering / extinction (0..1)
-    double anisotropy = 0.3; ///< Henyey-Greenstein g (-1..1)
+    double anisotropy = 0.3; ///< Henyey-Greenstein g (-0.99..0.99)
+
+    void validate() const;
+};
+
+/// How a ray integrates the medium.
+struct IntegratorSettings {
+    double volumeStep = 0.5; ///< ray-march step in the volume, world units (1e-6..1e9)
     /// March only through OpenVDB nodes holding density (VolumeRayIntersector)
     /// instead of across the cloud's whole box.
     bool skipEmptySpace = true;
+
+    void validate() const;
 };
 
 struct RenderSettings {
@@ -53,11 +81,18 @@ struct RenderSettings {
     SunSettings sun;
     SkySettings sky;
     ImageSettings image;
+    MediumSettings medium;
+    IntegratorSettings integrator;
+
+    /// Checks every part; keys as in a scene file ("camera/fovDegrees",
+    /// "render/resolution/0", "render/albedo", ...). Throws OptionError.
+    void validate() const;
 };
 
 CameraSettings cameraSettingsFromJson(const JsonValue& json);
 SunSettings sunSettingsFromJson(const JsonValue& json);
 SkySettings skySettingsFromJson(const JsonValue& json);
-ImageSettings imageSettingsFromJson(const JsonValue& json);
+/// The scene file's "render" object: the image, the medium and the integrator.
+void renderSectionFromJson(const JsonValue& json, RenderSettings& settings);
 
 } // namespace vfield

@@ -1,9 +1,12 @@
 #pragma once
 /// @file render_run.h
 /// Scene + a simulation folder -> OUT/frame.####.png (and/or .exr), one per
-/// frame, through vfield's Embree back-end, POV-Ray, or both. Reads
-/// density.####.vdb and tracks.json from the simulation; writes every image
-/// atomically; frames whose images exist are skipped unless forced.
+/// frame, through vfield's Embree back-end, POV-Ray, or both. Reads each
+/// frame's density and the dynamic objects' tracks through SimFolder; writes
+/// every image atomically; frames whose images exist are skipped unless forced.
+/// Every back-end reads the scene's render settings and nothing else: to
+/// change the image size or samples, change a copy of the scene
+/// (Scene::render.image), as the command line's --resolution and --spp do.
 ///
 /// Outputs per back-end:
 ///   embree: OUT/frame.####.png (and/or .exr)
@@ -27,8 +30,6 @@ enum class RenderBackend { Embree, Povray, Both };
 struct RenderRunOptions {
     RenderBackend backend = RenderBackend::Embree;
     std::optional<int> firstFrame, lastFrame; ///< default: the scene's range
-    std::optional<int> width, height;         ///< default: the scene's resolution
-    std::optional<int> samplesPerPixel;       ///< default: the scene's
     std::vector<std::string> formats{"png"};  ///< "png" and/or "exr"
     bool force = false;                       ///< re-render frames whose images exist
     bool keepScene = false;                   ///< keep POV-Ray's scene files in OUT/povray-scene/

@@ -14,16 +14,18 @@
 namespace vfield {
 
 struct Scene {
+    static constexpr double kMaxDensityVoxels = 2e9; ///< a cloud's initial box, in density voxels
+
     std::string path; ///< the scene file
-    /// Hash of what the simulation depends on (version, frames, seed, objects,
-    /// clouds, fields, simulation, volume), in canonical form: a resumed run
-    /// must match it. Camera, sun, sky and render settings do not enter it.
-    uint64_t simulationHash = 0;
     SimulationSetup simulation;
-    VolumeOptions volume;
+    VolumeOptions volume; ///< resolved: defaults filled in from the clouds' particle radii
     RenderSettings render;
 
     const ObjectSpec* findObject(const std::string& name) const;
+    /// Checks every part (keys as in the file: "clouds/0/count",
+    /// "render/resolution/0", ...), that a followed object is a dynamic object
+    /// of the scene, and that each cloud's density grid fits. Throws OptionError.
+    void validate() const;
 };
 
 /// One change to a scene file's JSON before it is read, as Houdini's and

@@ -1,19 +1,19 @@
 #pragma once
 /// @file simulation_run.h
-/// Scene -> a folder of files per frame, what a VFX pipeline reads:
-///   field.vdb              the static objects' combined `force` grid, world space
-///   density.####.vdb       `density` (FloatGrid) and `vel` (Vec3SGrid), world space
-///   particles.####.vdb     `particles` (PointDataGrid: P, v, id, pscale)
-///   tracks.json            per frame, each dynamic object's position, orientation, velocity
-///   stats.json             per frame, particles alive and removed, substeps, clearances
-///   state.bin              the state after the last complete frame, to resume from
-/// Every file appears atomically. A run that finds a state of the same scene
-/// resumes after its frame, and gives the same result as an uninterrupted run.
+/// Scene -> a simulation folder (sim_folder.h): the static field, density and
+/// particle grids per frame, tracks, statistics and the state to resume from.
+///
+/// A run that finds a state of the same scene with the same inputs resumes
+/// after its last complete frame and gives the same files as an uninterrupted
+/// run. If the scene file or a mesh it names was edited since, the folder's
+/// files are stale: the run removes them and simulates afresh (and says so). A
+/// folder holding a simulation of another scene file is refused.
 
 #include <vfield/scene/scene.h>
-#include <vfield/sim/clearance.h>
+#include <vfield/scene/sim_folder.h>
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,25 +34,14 @@ struct SimulateOptions {
     std::function<void(const FrameProgress&)> progress;
 };
 
-struct FrameRecord {
-    int frame = 0;
-    uint64_t alive = 0, removed = 0, substeps = 0;
-    uint32_t maxSubsteps = 0, dynamicSubsteps = 0;
-    ClearanceStats particleClearance, dynamicClearance;
-    Vec3d centroid{0.0}; ///< mean particle position, world units
-    BBoxd bounds;        ///< box of the particles (empty without particles)
-};
-
 struct SimulateSummary {
     std::vector<FrameRecord> frames;             ///< every frame simulated so far, resumed ones included
     int resumedAfterFrame = -1;                  ///< the frame a saved state was resumed after, or -1
+    bool restartedStale = false;                 ///< the folder held a run of an earlier edit of the scene
     std::vector<std::string> warnings;           ///< e.g. open meshes whose inside is undefined
     ClearanceStats worstParticles, worstDynamic; ///< minima over all frames, penetrations summed
 };
 
 SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, const SimulateOptions& options = {});
-
-/// "density.0007.vdb" style names.
-std::string frameFileName(const std::string& stem, int frame, const std::string& extension);
 
 } // namespace vfield

@@ -16,32 +16,41 @@
 
 namespace vfield {
 
+/// The most particles a scene may ask for in all: memory for state and splats.
+constexpr int64_t kMaxParticles = 50'000'000;
+
 struct ObjectSpec {
     std::string name;
     MeshSource mesh;
     Transform transform;    ///< placement of the mesh (for dynamic objects: at the first frame)
     bool isDynamic = false; ///< moves through the fields (the airplane); else fixed
-    double mass = 1.0;      ///< dynamic only (> 0)
-    double drag = 0.0;      ///< dynamic only: deceleration per unit velocity, 1/s (>= 0)
+    double mass = 1.0;      ///< dynamic only (1e-9..1e12)
+    double drag = 0.0;      ///< dynamic only: deceleration per unit velocity, 1/s (0..1e6)
     Vec3d velocity{0.0};    ///< dynamic only: initial velocity, world units/s
     /// Dynamic only: the mesh's nose is +x and its up +y in object space; its
     /// heading and pitch follow the velocity, and with bank it rolls into turns.
     bool bank = false;
     std::optional<OctreeFieldOptions> repulsion = OctreeFieldOptions{}; ///< none: no field around it
+
+    /// Throws OptionError naming the first option out of range.
+    void validate() const;
 };
 
 struct CloudSpec {
     enum class Shape { Sphere, Ellipsoid, Box };
     std::string name;
-    int64_t count = 10000; ///< particles (>= 1)
+    int64_t count = 10000; ///< particles (1..kMaxParticles)
     Shape shape = Shape::Sphere;
     Vec3d center{0.0};             ///< world units
-    Vec3d radii{10.0, 10.0, 10.0}; ///< sphere: radius (all equal); ellipsoid: semi-axes; box: half extents
-    double particleRadius = 0.5;   ///< world units; the density kernel's default radius scales with it
-    double mass = 1.0;             ///< per particle (> 0): repulsive forces are divided by it
-    double drag = 0.5;             ///< 1/s
+    Vec3d radii{10.0, 10.0, 10.0}; ///< sphere: radius (all equal); ellipsoid: semi-axes; box: half extents (1e-9..1e9)
+    double particleRadius = 0.5;   ///< world units (1e-9..1e9); the density's default voxel and kernel scale with it
+    double mass = 1.0;             ///< per particle (1e-9..1e12): repulsive forces are divided by it
+    double drag = 0.5;             ///< 1/s (0..1e6)
     Vec3d velocity{0.0};           ///< initial, world units/s
     uint64_t seed = 1;             ///< placement of the particles (mixed with the scene's seed)
+
+    /// Throws OptionError naming the first option out of range.
+    void validate() const;
 };
 
 /// A uniform acceleration (world units/s^2), everywhere or inside a box whose
@@ -50,26 +59,33 @@ struct UniformFieldSpec {
     std::string name;
     Vec3d acceleration{0.0};
     std::optional<BBoxd> box;
-    double softEdge = 0.0; ///< world units (>= 0): width of the linear fade outside the box
+    double softEdge = 0.0; ///< world units (0..1e12): width of the linear fade outside the box; needs a box
 
     Vec3d accelerationAt(const Vec3d& p) const;
+    /// Throws OptionError naming the first option out of range.
+    void validate() const;
 };
 
 struct SimulationOptions {
     enum class Sampling { Nearest, Trilinear };
     /// nearest: the paper's exact leaf forces; trilinear: smoothed across voxels.
     Sampling sampling = Sampling::Nearest;
-    /// Nothing moves more than cfl x (the finest leaf size of any field) in one substep.
+    /// Nothing moves more than cfl x (the finest leaf size of any field) in one substep (1e-3..1).
     double cfl = 0.5;
     /// Particles leaving this box are removed (and counted). Unset: the union of
     /// all fields' root cubes and the clouds' initial boxes.
     std::optional<BBoxd> domain;
+
+    /// Throws OptionError naming the first option out of range.
+    void validate() const;
 };
 
 struct SimulationSetup {
-    int firstFrame = 1; ///< frame numbers of the sequence
-    int lastFrame = 120;
-    double fps = 24.0; ///< frames per second; frame f is at time (f - firstFrame) / fps
+    static constexpr int kMaxFrame = 9999; ///< frame numbers have four digits in file names
+
+    int firstFrame = 1;  ///< frame numbers of the sequence (0..kMaxFrame)
+    int lastFrame = 120; ///< (firstFrame..kMaxFrame)
+    double fps = 24.0;   ///< frames per second (1e-3..1e4); frame f is at time (f - firstFrame) / fps
     uint64_t seed = 1;
     std::vector<ObjectSpec> objects;
     std::vector<CloudSpec> clouds;
@@ -77,19 +93,20 @@ struct SimulationSetup {
     SimulationOptions options;
 
     double frameTime(int frame) const { return (frame - firstFrame) / fps; }
+    /// Checks every part (keys as in a scene file: "frames/end",
+    /// "objects/1/mass", "clouds/0/count", ...), unique object names and the
+    /// particles in all. Throws OptionError.
+    void validate() const;
 };
 
 /// Parsers for the scene file's sections (see scenes/README.md). Relative
-/// paths resolve against baseDir. Limits on sizes are checked here, before
-/// anything is allocated.
+/// paths resolve against baseDir. Each checks its struct (validate()) and
+/// reports a failure at its JSON path, before anything is allocated.
 ObjectSpec objectSpecFromJson(const JsonValue& json, const std::string& baseDir);
 CloudSpec cloudSpecFromJson(const JsonValue& json);
 UniformFieldSpec uniformFieldSpecFromJson(const JsonValue& json);
 SimulationOptions simulationOptionsFromJson(const JsonValue& json);
 Transform transformFromJson(const JsonValue& json);
 BBoxd boxFromJson(const JsonValue& json);
-
-/// The most particles a scene may ask for in all: memory for state and splats.
-constexpr int64_t kMaxParticles = 50'000'000;
 
 } // namespace vfield

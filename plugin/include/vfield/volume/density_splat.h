@@ -18,9 +18,19 @@
 namespace vfield {
 
 struct VolumeOptions {
-    double voxelSize = 0.0;          ///< world units; 0: the mean particle radius
-    double kernelRadius = 0.0;       ///< world units; 0: 2 x the mean particle radius (>= voxel size)
-    double densityPerParticle = 1.0; ///< density integral of one particle (extinction is density x sigma)
+    static constexpr double kMaxKernelVoxels = 32.0; ///< the kernel's radius spans at most this many voxels
+
+    double voxelSize = 0.0;          ///< world units (0..1e9); 0: the particles' mean radius
+    double kernelRadius = 0.0;       ///< world units (0..1e9); 0: 2 x the particles' mean radius; at least one voxel
+    double densityPerParticle = 1.0; ///< density integral of one particle (0..1e12; extinction is density x sigma)
+
+    /// Throws OptionError naming the first option out of range, or a kernel
+    /// spanning more than kMaxKernelVoxels voxels.
+    void validate() const;
+    /// These options with the defaults filled in for particles of the given
+    /// mean radius: the only place the defaults are computed. Unchecked: call
+    /// validate() on the result.
+    VolumeOptions resolved(double meanParticleRadius) const;
 };
 VolumeOptions volumeOptionsFromJson(const JsonValue& json);
 
@@ -29,7 +39,8 @@ struct DensityGrids {
     openvdb::Vec3SGrid::Ptr velocity;
 };
 
-/// Throws ValueError if the voxel size would make an absurd grid.
+/// Splats with options.resolved(mean radius of the particles). Throws
+/// OptionError if the voxel size would make an absurd kernel.
 DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& options);
 
 } // namespace vfield

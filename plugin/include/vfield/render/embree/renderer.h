@@ -9,32 +9,23 @@
 /// (frame, pixel, sample), so images are identical for any thread count.
 
 #include <vfield/render/camera.h>
-#include <vfield/render/cloud_volume.h>
+#include <vfield/render/embree/cloud_volume.h>
+#include <vfield/render/embree/surfaces.h>
+#include <vfield/render/frame_image.h>
 #include <vfield/render/materials.h>
-#include <vfield/render/surfaces.h>
 
 #include <map>
-#include <vector>
 
 namespace vfield {
 
-struct RenderImage {
-    int width = 0, height = 0;
-    /// Linear RGB, the sky included; A is the coverage by surfaces and cloud
-    /// (0 for clear sky, between 0 and 1 through thin cloud).
-    std::vector<float> rgba;
-    std::vector<float> depth; ///< camera distance to the first surface; +inf for sky
-};
-
 struct FrameToRender {
-    const RenderSettings* settings = nullptr;
+    const RenderSettings* settings = nullptr; ///< image size and samples, sun, sky, medium
     const SurfaceScene* surfaces = nullptr;
     std::map<int, SurfaceMaterial> materials;                            ///< per object; Painted where missing
     const CloudVolume* volume = nullptr;                                 ///< may be null: surfaces only
     Camera camera{Vec3d(0, 0, 1), Vec3d(0.0), Vec3d(0, 1, 0), 45, 1, 1}; ///< set per frame
     int frame = 0;                                                       ///< keys the random numbers
-    int width = 640, height = 360, samplesPerPixel = 4;
-    double terrainLow = 0.0, terrainHigh = 1.0; ///< heights for the terrain's colours
+    double terrainLow = 0.0, terrainHigh = 1.0;                          ///< heights for the terrain's colours
 };
 
 RenderImage renderFrame(const FrameToRender& frame);

@@ -1,4 +1,4 @@
-#include <vfield/render/povray_scene.h>
+#include <vfield/render/povray/povray_scene.h>
 
 #include <vfield/core/error.h>
 
@@ -134,26 +134,27 @@ std::string povrayFrameText(const PovrayFrame& f)
 
     if (f.cloud && f.cloud->placement.densityScale > 0.0) {
         const PovrayCloud& cloud = *f.cloud;
-        const ImageSettings& image = s.image;
+        const MediumSettings& medium = s.medium;
         // POV-Ray's df3 values run over [0, 1]: coefficients carry the density scale.
-        const double sigmaT = image.extinction * cloud.placement.densityScale;
-        const double sigmaS = sigmaT * image.albedo;
+        const double sigmaT = medium.extinction * cloud.placement.densityScale;
+        const double sigmaS = sigmaT * medium.albedo;
         // POV-Ray's phase functions average 1 over the sphere (vfield's integrate
         // to 1: a factor 4 pi) and its lights carry 1/pi: the scattering colour is
         // sigma_s / 4, and `extinction 4` keeps its share of the extinction sigma_s.
         const Vec3d skyMean = (s.sky.zenithColor + s.sky.horizonColor) * (0.5 * s.sky.intensity);
         const BBoxd& box = cloud.placement.worldBounds;
         const Vec3d size = box.extents();
-        const int samples = std::clamp(int(std::ceil(size.length() / std::max(1e-6, cloud.volumeStep))), 8, 400);
+        const int samples = std::clamp(int(std::ceil(size.length() / std::max(1e-6, s.integrator.volumeStep))), 8, 400);
         out << "\nbox { <0, 0, 0>, <1, 1, 1>\n  hollow\n  texture { pigment { rgbt 1 } }\n  interior {\n    media {\n"
             << "      method 3 intervals 1 samples " << samples << "\n"
             << "      absorption rgb " << num(sigmaT - sigmaS) << "\n"
-            << "      scattering { 5, rgb " << num(sigmaS / 4.0) << " eccentricity " << num(image.anisotropy)
+            << "      scattering { 5, rgb " << num(sigmaS / 4.0) << " eccentricity " << num(medium.anisotropy)
             << " extinction 4 }\n"
             << "      density { density_file df3 \"" << cloud.df3File << "\" interpolate 1 }\n    }\n";
         if (cloud.skyLitPlacement.densityScale > 0.0)
             out << "    media {\n      method 3 intervals 1 samples " << samples << "\n"
-                << "      emission rgb " << vec(skyMean * (image.extinction * image.albedo * cloud.skyLitPlacement.densityScale))
+                << "      emission rgb "
+                << vec(skyMean * (medium.extinction * medium.albedo * cloud.skyLitPlacement.densityScale))
                 << "\n      density { density_file df3 \"" << cloud.skyLitDf3File << "\" interpolate 1 }\n    }\n";
         out << "  }\n  scale " << vec(Vec3d(size[0], size[1], -size[2])) << "\n"
             << "  translate " << vec(mirrored(box.min())) << "\n}\n";

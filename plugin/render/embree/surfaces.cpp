@@ -1,4 +1,4 @@
-#include <vfield/render/surfaces.h>
+#include <vfield/render/embree/surfaces.h>
 
 #include <vfield/core/error.h>
 

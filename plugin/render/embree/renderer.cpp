@@ -1,4 +1,4 @@
-#include <vfield/render/renderer.h>
+#include <vfield/render/embree/renderer.h>
 
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
@@ -43,11 +43,12 @@ RenderImage renderFrame(const FrameToRender& f)
     // What the sky gives a cloud from all around: its mean radiance.
     const Vec3d skyAmbient = (s.sky.zenithColor + s.sky.horizonColor) * (0.5 * s.sky.intensity);
 
+    const int width = s.image.width, height = s.image.height, samplesPerPixel = s.image.samplesPerPixel;
     RenderImage image;
-    image.width = f.width;
-    image.height = f.height;
-    image.rgba.assign(std::size_t(f.width) * f.height * 4, 0.0f);
-    image.depth.assign(std::size_t(f.width) * f.height, std::numeric_limits<float>::infinity());
+    image.width = width;
+    image.height = height;
+    image.rgba.assign(std::size_t(width) * height * 4, 0.0f);
+    image.depth.assign(std::size_t(width) * height, std::numeric_limits<float>::infinity());
 
     const auto shadeSurface = [&](const SurfaceHit& hit) {
         const auto material = f.materials.find(hit.object);
@@ -57,24 +58,24 @@ RenderImage renderFrame(const FrameToRender& f)
         const Vec3d offset = hit.position + hit.geometricNormal * 1e-3 * (1.0 + hit.distance);
         double sun = std::max(0.0, hit.normal.dot(toSun));
         if (sun > 0 && f.surfaces->occluded(offset, toSun, 0.0, std::numeric_limits<double>::max())) sun = 0.0;
-        if (sun > 0 && f.volume) sun *= f.volume->sunTransmittance(offset);
+        if (sun > 0 && f.volume) sun *= f.volume->lighting().sunTransmittance(offset);
         const Vec3d light = sunRadiance * (sun / M_PI) + skyLightOnSurface(s.sky, hit.normal);
         return Vec3d(albedo[0] * light[0], albedo[1] * light[1], albedo[2] * light[2]);
     };
 
     const int tile = 16;
-    tbb::parallel_for(tbb::blocked_range2d<int>(0, f.height, tile, 0, f.width, tile), [&](const tbb::blocked_range2d<int>& r) {
+    tbb::parallel_for(tbb::blocked_range2d<int>(0, height, tile, 0, width, tile), [&](const tbb::blocked_range2d<int>& r) {
         for (int y = r.rows().begin(); y != r.rows().end(); ++y)
             for (int x = r.cols().begin(); x != r.cols().end(); ++x) {
-                const uint32_t pixel = uint32_t(y) * uint32_t(f.width) + uint32_t(x);
+                const uint32_t pixel = uint32_t(y) * uint32_t(width) + uint32_t(x);
                 Vec3d colour(0.0);
                 double alpha = 0.0;
                 float depth = std::numeric_limits<float>::infinity();
-                for (int sample = 0; sample < f.samplesPerPixel; ++sample) {
+                for (int sample = 0; sample < samplesPerPixel; ++sample) {
                     SampleRandom random(uint32_t(f.frame), pixel, uint32_t(sample));
                     // One sample at the pixel centre, the rest jittered over it.
-                    const double jx = f.samplesPerPixel == 1 ? 0.5 : random.next();
-                    const double jy = f.samplesPerPixel == 1 ? 0.5 : random.next();
+                    const double jx = samplesPerPixel == 1 ? 0.5 : random.next();
+                    const double jy = samplesPerPixel == 1 ? 0.5 : random.next();
                     const Vec3d dir = f.camera.direction(x + jx, y + jy);
                     SurfaceHit hit;
                     const bool isSurface =
@@ -92,7 +93,7 @@ RenderImage renderFrame(const FrameToRender& f)
                     alpha += opacity;
                     if (isSurface) depth = std::min(depth, float(hit.distance));
                 }
-                const double n = f.samplesPerPixel;
+                const double n = samplesPerPixel;
                 float* out = &image.rgba[4 * std::size_t(pixel)];
                 out[0] = float(colour[0] / n);
                 out[1] = float(colour[1] / n);

@@ -20,8 +20,8 @@
 /// sphere is the horizon-to-zenith gradient without the sun's glow.
 
 #include <vfield/render/camera.h>
-#include <vfield/render/df3.h>
 #include <vfield/render/materials.h>
+#include <vfield/render/povray/df3.h>
 
 #include <vfield/core/transform.h>
 #include <vfield/mesh/triangle_mesh.h>
@@ -55,7 +55,7 @@ struct PovrayCloud {
 };
 
 struct PovrayFrame {
-    const RenderSettings* settings = nullptr;
+    const RenderSettings* settings = nullptr; ///< sun, sky, medium; media samples from the integrator's volumeStep
     Camera camera{Vec3d(0, 0, 1), Vec3d(0.0), Vec3d(0, 1, 0), 45, 1, 1};
     int frame = 0;
     std::string meshInclude;               ///< povrayMeshesText's file, relative to the scene file

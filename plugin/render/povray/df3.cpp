@@ -1,4 +1,4 @@
-#include <vfield/render/df3.h>
+#include <vfield/render/povray/df3.h>
 
 #include <vfield/core/atomic_file.h>
 #include <vfield/core/error.h>

@@ -1,4 +1,4 @@
-#include <vfield/render/povray_runner.h>
+#include <vfield/render/povray/povray_runner.h>
 
 #include <vfield/core/error.h>
 
@@ -60,25 +60,25 @@ void requirePovray()
         throw Error("POV-Ray (the povray program) is not on PATH; install the Debian package 'povray' (tools/setup does)");
 }
 
-void runPovray(const std::string& folder, const std::string& sceneFile, const std::string& imageFile,
-               const PovrayOptions& options)
+void runPovray(const std::string& folder, const std::string& sceneFile, const std::string& imageFile, const ImageSettings& image,
+               int threads)
 {
     requirePovray();
-    if (options.width < 1 || options.height < 1 || options.samplesPerPixel < 1 || options.threads < 1)
-        throw ValueError("POV-Ray needs a positive size, sample count and thread count");
+    image.validate();
+    if (threads < 1) throw ValueError("POV-Ray needs at least one thread");
 
     std::vector<std::string> args = {kProgram,
                                      "+I" + sceneFile,
                                      "+O" + imageFile,
-                                     "+W" + std::to_string(options.width),
-                                     "+H" + std::to_string(options.height),
-                                     "+WT" + std::to_string(options.threads),
+                                     "+W" + std::to_string(image.width),
+                                     "+H" + std::to_string(image.height),
+                                     "+WT" + std::to_string(threads),
                                      "-D",  // no display
                                      "-V",  // no progress lines
                                      "-P",  // no pause
                                      "+FN", // PNG
                                      "File_Gamma=sRGB"};
-    const int grid = std::clamp(int(std::lround(std::sqrt(double(options.samplesPerPixel)))), 1, 9);
+    const int grid = std::clamp(int(std::lround(std::sqrt(double(image.samplesPerPixel)))), 1, 9);
     if (grid > 1) {
         // Threshold 0 supersamples every pixel on an unjittered n x n grid.
         for (const std::string& a : {std::string("+A0.0"), std::string("+AM1"), "+R" + std::to_string(grid), std::string("-J")})

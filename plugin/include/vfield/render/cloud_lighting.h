@@ -1,0 +1,64 @@
+#pragma once
+/// @file cloud_lighting.h
+/// A frame's density grid (world space) and the light that reaches into it:
+/// the sun's and the sky's transmittance through the cloud, computed once per
+/// frame into grids over the cloud's box (coarser than the density), so that a
+/// shading sample costs one lookup instead of a march to the light. Shared by
+/// the back-ends: vfield's renderer shades with it, the POV-Ray export writes
+/// the sky-lit density from it.
+
+#include <vfield/render/render_settings.h>
+
+#include <openvdb/openvdb.h>
+
+#include <functional>
+
+namespace vfield {
+
+class CloudLighting {
+public:
+    /// Whether a surface blocks the sun from origin along dir (unit).
+    using Occlusion = std::function<bool(const Vec3d& origin, const Vec3d& dir)>;
+
+    /// toSun points towards the sun. sunBlocked may be empty: then only the
+    /// cloud itself shadows it.
+    CloudLighting(openvdb::FloatGrid::ConstPtr density, const MediumSettings& medium, const Vec3d& toSun,
+                  const Occlusion& sunBlocked);
+
+    /// No density, or no extinction: nothing to light or draw.
+    bool empty() const { return mEmpty; }
+    const openvdb::FloatGrid& density() const { return *mDensity; }
+    const openvdb::FloatGrid::ConstPtr& densityPtr() const { return mDensity; }
+    /// The box of the active voxels' extents, one voxel wider so that
+    /// trilinear reads fade to zero inside it.
+    const BBoxd& bounds() const { return mBounds; }
+    const Vec3d& toSun() const { return mToSun; }
+
+    /// Where the ray origin + t dir (dir unit) is inside bounds(), narrowing
+    /// [tMin, tMax]; false if it misses.
+    bool clip(const Vec3d& origin, const Vec3d& dir, double& tMin, double& tMax) const;
+
+    /// Transmittance of the cloud from p towards the sun (1 where no cloud is in the way).
+    double sunTransmittance(const Vec3d& p) const;
+    /// The transmittance grids themselves (sharing one transform), for
+    /// renderers that sample them along their rays.
+    const openvdb::FloatGrid& sunTransmittanceGrid() const { return *mSunTransmittance; }
+    const openvdb::FloatGrid& skyTransmittanceGrid() const { return *mSkyTransmittance; }
+
+    /// Density x the sky's transmittance down to each voxel: where the cloud
+    /// scatters the sky's light, and how much (same voxels as the density).
+    openvdb::FloatGrid::Ptr skyLitDensity() const;
+
+private:
+    /// Transmittance towards a light (unit direction) over the box, coarser than the density.
+    openvdb::FloatGrid::Ptr transmittanceGrid(const Vec3d& towards, const Occlusion& blocked) const;
+
+    openvdb::FloatGrid::ConstPtr mDensity;
+    openvdb::FloatGrid::Ptr mSunTransmittance, mSkyTransmittance;
+    BBoxd mBounds;
+    Vec3d mToSun;
+    double mExtinction;
+    bool mEmpty = true;
+};
+
+} // namespace vfield

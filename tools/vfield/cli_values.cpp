@@ -1,0 +1,88 @@
+#include "cli_values.h"
+
+#include <vfield/core/error.h>
+
+#include <sstream>
+
+namespace vfield::cli {
+
+namespace {
+
+/// The value of text if it is an integer and nothing else.
+std::optional<int> wholeInteger(const std::string& text)
+{
+    std::istringstream in(text);
+    int value = 0;
+    if (!(in >> value) || !in.eof()) return std::nullopt;
+    return value;
+}
+
+/// Checks the image values against ImageSettings::validate, as a usage error of option.
+void checkImage(const ImageSettings& image, const std::string& option)
+{
+    try {
+        image.validate();
+    } catch (const OptionError& e) {
+        throw CLI::ValidationError(option, e.detail());
+    }
+}
+
+} // namespace
+
+void addFrameRangeOption(CLI::App& command, std::optional<FrameRange>& range, const std::string& help)
+{
+    command
+        .add_option_function<std::string>(
+            "--frames",
+            [&range](const std::string& text) {
+                const std::size_t dash = text.find('-', 1);
+                const std::optional<int> first = wholeInteger(text.substr(0, dash));
+                const std::optional<int> last = dash == std::string::npos ? first : wholeInteger(text.substr(dash + 1));
+                if (!first || !last) throw CLI::ValidationError("--frames", "expected A-B or A, got '" + text + "'");
+                if (*last < *first) throw CLI::ValidationError("--frames", "the range " + text + " ends before it starts");
+                range = FrameRange{*first, *last};
+            },
+            help)
+        ->type_name("A-B");
+}
+
+void ImageOverrides::applyTo(ImageSettings& image) const
+{
+    if (width) image.width = *width;
+    if (height) image.height = *height;
+    if (samplesPerPixel) image.samplesPerPixel = *samplesPerPixel;
+}
+
+void addImageOverrideOptions(CLI::App& command, ImageOverrides& overrides)
+{
+    command
+        .add_option_function<std::string>(
+            "--resolution",
+            [&overrides](const std::string& text) {
+                const std::size_t x = text.find('x');
+                const std::optional<int> w = x == std::string::npos ? std::nullopt : wholeInteger(text.substr(0, x));
+                const std::optional<int> h = x == std::string::npos ? std::nullopt : wholeInteger(text.substr(x + 1));
+                if (!w || !h) throw CLI::ValidationError("--resolution", "expected WxH, e.g. 1280x720, got '" + text + "'");
+                ImageSettings image;
+                image.width = *w;
+                image.height = *h;
+                checkImage(image, "--resolution");
+                overrides.width = w;
+                overrides.height = h;
+            },
+            "Image size WxH [default: the scene's]")
+        ->type_name("WxH");
+    command
+        .add_option_function<int>(
+            "--spp",
+            [&overrides](int spp) {
+                ImageSettings image;
+                image.samplesPerPixel = spp;
+                checkImage(image, "--spp");
+                overrides.samplesPerPixel = spp;
+            },
+            "Samples per pixel [default: the scene's]")
+        ->type_name("N");
+}
+
+} // namespace vfield::cli

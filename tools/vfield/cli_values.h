@@ -1,0 +1,29 @@
+#pragma once
+// Values that several subcommands take, each parsed once while the command
+// line is parsed (a bad one is a usage error, exit 2) into typed options.
+
+#include "command.h"
+
+#include <vfield/render/render_settings.h>
+
+#include <optional>
+
+namespace vfield::cli {
+
+struct FrameRange {
+    int first = 0, last = 0;
+};
+
+/// --frames A-B or A.
+void addFrameRangeOption(CLI::App& command, std::optional<FrameRange>& range, const std::string& help);
+
+/// --resolution WxH and --spp N: changes to the scene's image settings,
+/// checked against ImageSettings' own limits.
+struct ImageOverrides {
+    std::optional<int> width, height, samplesPerPixel;
+    /// Applies the given values to image (the scene's copy every back-end reads).
+    void applyTo(ImageSettings& image) const;
+};
+void addImageOverrideOptions(CLI::App& command, ImageOverrides& overrides);
+
+} // namespace vfield::cli
