@@ -40,6 +40,21 @@ double stepLimit(double speed, double acceleration, double reach)
     return 2.0 * reach / (speed + std::sqrt(speed * speed + 4.0 * acceleration * reach));
 }
 
+/// One substep of dv/dt = a - drag v with a held constant: the velocity
+/// relaxes exactly towards the terminal velocity a / drag, as exp(-drag dt),
+/// so any drag is stable (an explicit step overshoots once drag dt > 1); the
+/// position moves with the new velocity (semi-implicit Euler, which reacts to
+/// repulsion within the substep). With no drag this is v += a dt, x += v dt.
+/// The travel, |v_new| dt, is at most |v| dt + |a| dt^2: what stepLimit bounds.
+void integrateWithDrag(Vec3d& x, Vec3d& v, const Vec3d& a, double drag, double dt)
+{
+    // (1 - e^-h) / h for h = drag dt, by its series where the closed form loses precision.
+    const double h = drag * dt;
+    const double relaxed = h < 1e-5 ? 1.0 - h / 2.0 + h * h / 6.0 : -std::expm1(-h) / h;
+    v = v * std::exp(-h) + a * (dt * relaxed);
+    x += v * dt;
+}
+
 /// Heading and pitch from the velocity (nose +x, up +y), and with bank a roll
 /// into the turn from the sideways acceleration.
 Quatd orientationFor(const Vec3d& velocity, const Vec3d& acceleration, bool bank, const Quatd& previous)
@@ -209,17 +224,16 @@ void Simulator::advanceDynamicObjects(double t0, double t1)
                     points.push_back(other.objectFromWorld(state.pose.worldFromObject(c)));
                 a += other.rotateToWorld(mObjects[j].field->hitTest(points)) / spec.mass;
             }
-            a -= spec.drag * state.velocity;
             acceleration[d] = a;
             dt = std::min(dt, stepLimit(state.velocity.length(), a.length(), reach));
         }
         dt = std::max(dt, 1e-9 * (t1 - t0)); // progress even if a limit collapses
         for (std::size_t d = 0; d < dynamic.size(); ++d) {
             DynamicState& state = mStates[dynamic[d]];
-            state.velocity += acceleration[d] * dt;
-            state.pose.translation += state.velocity * dt;
-            state.pose.rotation =
-                orientationFor(state.velocity, acceleration[d], mObjects[dynamic[d]].spec->bank, state.pose.rotation);
+            const ObjectSpec& spec = *mObjects[dynamic[d]].spec;
+            const Vec3d netAcceleration = acceleration[d] - spec.drag * state.velocity;
+            integrateWithDrag(state.pose.translation, state.velocity, acceleration[d], spec.drag, dt);
+            state.pose.rotation = orientationFor(state.velocity, netAcceleration, spec.bank, state.pose.rotation);
         }
         t = (t1 - t <= dt) ? t1 : t + dt;
         ++substeps;
@@ -246,11 +260,9 @@ void Simulator::advanceParticles(double t0, double t1)
                 Vec3d a(0.0);
                 for (const UniformFieldSpec& field : mSetup.fields) a += field.accelerationAt(x);
                 a += repulsion(x, t, accessors.data()) / cloud.mass;
-                a -= cloud.drag * v;
                 double dt = std::min(t1 - t, stepLimit(v.length(), a.length(), reach));
                 dt = std::max(dt, 1e-9 * (t1 - t0));
-                v += a * dt;
-                x += v * dt;
+                integrateWithDrag(x, v, a, cloud.drag, dt);
                 t = (t1 - t <= dt) ? t1 : t + dt;
                 ++steps;
                 if (!mDomain.isInside(x)) {
