@@ -125,6 +125,14 @@ TEST_CASE("cli: a bad scene is one line naming the file and the JSON path", "[cl
     CHECK_FALSE(std::filesystem::exists(dir + "/out"));
     const Run frames = vfieldCli("simulate " + dir + "/s.json -o " + dir + "/out --frames 9-3", dir);
     CHECK(frames.exitCode == 2);
+
+    // 100,000 nested arrays (200 kB) crashed the parser; now one line, exit 1, no output.
+    std::ofstream(dir + "/deep.json") << std::string(100000, '[') << std::string(100000, ']');
+    const Run deep = vfieldCli("simulate " + dir + "/deep.json -o " + dir + "/out", dir);
+    CHECK(deep.exitCode == 1);
+    CHECK(deep.err ==
+          "vfield simulate: " + dir + "/deep.json: line 1, column 257: JSON nested deeper than 256 arrays and objects\n");
+    CHECK_FALSE(std::filesystem::exists(dir + "/out"));
 }
 
 TEST_CASE("cli: simulate writes frames and progress and export-mesh places objects", "[cli]")

@@ -100,7 +100,7 @@ TEST_CASE("grid compare: point grids compare by hash", "[compare]")
         const openvdb::math::Transform::Ptr transform = openvdb::math::Transform::createLinearTransform(0.5);
         openvdb::points::PointDataGrid::Ptr grid =
             openvdb::points::createPointDataGrid<openvdb::points::NullCodec, openvdb::points::PointDataGrid>(positions,
-                                                                                                           *transform);
+                                                                                                             *transform);
         grid->setName("particles");
         return grid;
     };

@@ -12,6 +12,22 @@ TEST_CASE("json: a syntax error names its line and column", "[json]")
                       Catch::StartsWith("s.json: line 3, column 8: JSON syntax error"));
 }
 
+TEST_CASE("json: documents nested deeper than the limit are refused before parsing", "[json]")
+{
+    // 100,000 levels overflowed the stack; the limit holds for arrays and objects alike.
+    const std::string arrays = std::string(100000, '[') + std::string(100000, ']');
+    CHECK_THROWS_WITH(parseJson(arrays, "deep.json"),
+                      "deep.json: line 1, column 257: JSON nested deeper than 256 arrays and objects");
+    std::string objects;
+    for (int i = 0; i < 100000; ++i) objects += "{\"a\":";
+    objects += "1" + std::string(100000, '}');
+    CHECK_THROWS_WITH(parseJson(objects, "deep.json"), Catch::StartsWith("deep.json: line 1, column "));
+    CHECK_THROWS_AS(parseJson(objects, "deep.json"), ParseError);
+    // Brackets in strings do not nest, and the limit itself parses.
+    CHECK_NOTHROW(parseJson("[\"" + std::string(1000, '[') + "\"]", "s.json"));
+    CHECK_NOTHROW(parseJson(std::string(256, '[') + std::string(256, ']'), "s.json"));
+}
+
 TEST_CASE("json: an option out of range is reported at its JSON path", "[json]")
 {
     const JsonValue root = parseJson(R"({"clouds": [{"count": -5}]})", "cloud.json");

@@ -214,27 +214,63 @@ void validateAt(const JsonValue& json, const std::function<void()>& validate)
     }
 }
 
+namespace {
+
+/// "line L, column C" of the character at a 0-based offset.
+std::string lineAndColumn(const std::string& text, std::size_t offset)
+{
+    std::size_t line = 1, column = 1;
+    for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
+        if (text[i] == '\n') {
+            ++line;
+            column = 1;
+        } else {
+            ++column;
+        }
+    }
+    return "line " + std::to_string(line) + ", column " + std::to_string(column);
+}
+
+/// Refuses a document nested deeper than kMaxJsonDepth before anything is
+/// built from it: deep enough nesting overflows the stack of a recursive
+/// parser or destructor. Brackets inside strings do not count; syntax is
+/// left to the parser.
+void checkNesting(const std::string& text, const std::string& file)
+{
+    int depth = 0;
+    bool inString = false, escaped = false;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (inString) {
+            if (escaped) escaped = false;
+            else if (c == '\\') escaped = true;
+            else if (c == '"') inString = false;
+        } else if (c == '"') {
+            inString = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > kMaxJsonDepth)
+                throw ParseError(file, lineAndColumn(text, i),
+                                 "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " arrays and objects");
+        } else if (c == ']' || c == '}') {
+            --depth;
+        }
+    }
+}
+
+} // namespace
+
 JsonValue parseJson(const std::string& text, const std::string& file)
 {
+    checkNesting(text, file);
     auto document = std::make_shared<nlohmann::json>();
     try {
         *document = nlohmann::json::parse(text);
     } catch (const nlohmann::json::parse_error& e) {
         // e.byte is the 1-based offset of the offending character.
-        std::size_t line = 1, column = 1;
-        for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
-            if (text[i] == '\n') {
-                ++line;
-                column = 1;
-            } else {
-                ++column;
-            }
-        }
         std::string why = e.what();
         const std::size_t colon = why.rfind(": ");
         if (colon != std::string::npos) why = why.substr(colon + 2);
-        throw ParseError(file, "line " + std::to_string(line) + ", column " + std::to_string(column),
-                         "JSON syntax error: " + why);
+        throw ParseError(file, lineAndColumn(text, e.byte > 0 ? e.byte - 1 : 0), "JSON syntax error: " + why);
     } catch (const nlohmann::json::exception& e) {
         // e.g. a number too large for a double; nlohmann gives no position for these.
         std::string why = e.what();

@@ -92,15 +92,14 @@ Scene loadScene(const std::string& path, const std::vector<SceneOverride>& overr
     text << in.rdbuf();
     if (overrides.empty()) return parseScene(text.str(), path);
 
-    parseJson(text.str(), path); // syntax errors name the file's line and column
-    nlohmann::json json = nlohmann::json::parse(text.str());
+    nlohmann::json json = parseJson(text.str(), path).raw(); // syntax errors name the file's line and column
     for (const SceneOverride& o : overrides) {
         const std::string what = "override " + o.pointer + "=" + o.value + ": ";
         if (o.pointer.empty() || o.pointer[0] != '/') throw ValueError(what + "a JSON pointer starts with '/'");
         nlohmann::json value;
         try {
-            value = nlohmann::json::parse(o.value);
-        } catch (const nlohmann::json::exception&) {
+            value = parseJson(o.value, "override").raw();
+        } catch (const ParseError&) {
             throw ValueError(what + "the value is not JSON (a string needs its quotes)");
         }
         try {

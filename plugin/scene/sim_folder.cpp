@@ -195,7 +195,9 @@ void add(ContentHash& h, const MeshSource& m)
         add(h, m.sphere.radius);
         add(h, int64_t(m.sphere.subdivisions));
         break;
-    case MeshSource::Kind::Box: add(h, BBoxd(m.box.min, m.box.max)); break;
+    case MeshSource::Kind::Box:
+        add(h, BBoxd(m.box.min, m.box.max));
+        break;
     }
 }
 
@@ -401,8 +403,8 @@ void SimFolder::writeStats(const std::vector<FrameRecord>& records, double fps) 
 void SimFolder::writeRunState(const RunState& state) const
 {
     std::string out = std::string(kRunStateHeader) + "\n";
-    for (const std::string& block : {state.scenePath, std::to_string(state.inputsHash), state.simulatorState, recordsToJson(state.records).dump(),
-                                     objectsToJson(state.tracks.mObjects).dump()})
+    for (const std::string& block : {state.scenePath, std::to_string(state.inputsHash), state.simulatorState,
+                                     recordsToJson(state.records).dump(), objectsToJson(state.tracks.mObjects).dump()})
         out += std::to_string(block.size()) + "\n" + block;
     writeTextAtomically(stateFile(), out);
 }
@@ -414,8 +416,8 @@ void SimFolder::clear() const
     if (!fs::is_directory(mPath)) return;
     for (const auto& entry : fs::directory_iterator(mPath)) {
         const std::string name = entry.path().filename().string();
-        const bool isFrame = (name.rfind("density.", 0) == 0 || name.rfind("particles.", 0) == 0) &&
-                             entry.path().extension() == ".vdb";
+        const bool isFrame =
+            (name.rfind("density.", 0) == 0 || name.rfind("particles.", 0) == 0) && entry.path().extension() == ".vdb";
         if (isFrame) fs::remove(entry.path(), ignored);
     }
 }

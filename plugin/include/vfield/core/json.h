@@ -120,6 +120,10 @@ Options readOptions(const JsonValue& json, ReadKeys&& readKeys)
     return options;
 }
 
+/// The deepest nesting of arrays and objects a JSON input may have; deeper
+/// documents are refused before they are parsed.
+constexpr int kMaxJsonDepth = 256;
+
 /// Parses a JSON file. Throws FileError if it cannot be read, ParseError with
 /// "line L, column C" for a syntax error.
 JsonValue readJsonFile(const std::string& path);
