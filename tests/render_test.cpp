@@ -137,6 +137,38 @@ TEST_CASE("render: the phase function integrates to one", "[render]")
     }
 }
 
+TEST_CASE("render: a faint cloud straddling the ground leaves the lit ground as it is", "[render]")
+{
+    // The cloud's box reaches 1 unit into the ground, where grid points are
+    // hidden from the sun; surfaces must read the cloud's transmittance only
+    // (their own shadow ray finds the ground), or they darken in blocks.
+    SmallScene scene;
+    const RenderImage without = renderFrame(scene.frame);
+    const LitCloud faint(constantBox({-12, -1, -12}, {12, 3, 12}, 0.5, 1e-6f), scene.settings, scene.settings.sun.direction,
+                         &scene.surfaces);
+    scene.frame.volume = &faint.volume;
+    const RenderImage with = renderFrame(scene.frame);
+    double worst = 0.0;
+    for (std::size_t i = 0; i < with.rgba.size(); ++i) worst = std::max(worst, double(std::abs(with.rgba[i] - without.rgba[i])));
+    CHECK(worst < 1e-3);
+}
+
+TEST_CASE("render: a cloud in a surface's shadow gets no sun", "[render]")
+{
+    // A cloud under a roof: lit by the sun where it reaches past the roof's
+    // edge, and by the sky alone beneath it.
+    SurfaceScene roof;
+    roof.addStatic(0, makeBox({{-10, 5, -10}, {0, 5.5, 10}}), Transform{});
+    roof.commit();
+    RenderSettings settings = medium(1.0, 0.9, 0.0, 0.05);
+    const LitCloud cloud(constantBox({-4, 0, -1}, {4, 2, 1}, 0.1, 0.5f), settings, Vec3d(0, 1, 0), &roof);
+    const auto seen = [&](double x) {
+        return cloud.volume.march({x, 1, -10}, {0, 0, 1}, 0.0, 1e9, 0.5, Vec3d(1.0), Vec3d(0.0)).radiance[0];
+    };
+    CHECK(seen(-2.0) < 1e-6);
+    CHECK(seen(2.0) > 0.02);
+}
+
 TEST_CASE("render: a cloud behind a surface does not show through it", "[render]")
 {
     SmallScene scene;

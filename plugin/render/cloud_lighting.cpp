@@ -25,8 +25,9 @@ CloudLighting::CloudLighting(openvdb::FloatGrid::ConstPtr density, const MediumS
     mEmpty = false;
     const openvdb::BBoxd index(active.min().asVec3d() - 1.5, active.max().asVec3d() + 1.5);
     mBounds = mDensity->transform().indexToWorld(index);
-    mSunTransmittance = transmittanceGrid(mToSun, sunBlocked);
-    mSkyTransmittance = transmittanceGrid(Vec3d(0, 1, 0), {});
+    mSunTransmittance = transmittanceGrid(mToSun);
+    mSunInCloud = sunBlocked ? withSurfaceShadows(*mSunTransmittance, mToSun, sunBlocked) : mSunTransmittance;
+    mSkyTransmittance = transmittanceGrid(Vec3d(0, 1, 0));
 }
 
 bool CloudLighting::clip(const Vec3d& origin, const Vec3d& dir, double& tMin, double& tMax) const
@@ -45,10 +46,9 @@ bool CloudLighting::clip(const Vec3d& origin, const Vec3d& dir, double& tMin, do
     return tMin < tMax;
 }
 
-openvdb::FloatGrid::Ptr CloudLighting::transmittanceGrid(const Vec3d& towards, const Occlusion& blocked) const
+openvdb::FloatGrid::Ptr CloudLighting::transmittanceGrid(const Vec3d& towards) const
 {
-    // At the centres of a coarse grid over the box: through the cloud towards
-    // the light, and zero where a surface blocks it.
+    // At the centres of a coarse grid over the box, through the cloud towards the light.
     const Vec3d extent = mBounds.extents();
     const double cell = std::max(2.0 * mDensity->voxelSize()[0], extent[mBounds.maxExtent()] / kLightGridResolution);
     const openvdb::Coord cells(int(std::ceil(extent[0] / cell)) + 1, int(std::ceil(extent[1] / cell)) + 1,
@@ -68,9 +68,7 @@ openvdb::FloatGrid::Ptr CloudLighting::transmittanceGrid(const Vec3d& towards, c
                 const Vec3d p = transform->indexToWorld(openvdb::Coord(i, j, k));
                 double tEnter = 0.0, tExit = std::numeric_limits<double>::max();
                 float t = 1.0f;
-                if (blocked && blocked(p, towards)) {
-                    t = 0.0f;
-                } else if (clip(p, towards, tEnter, tExit)) {
+                if (clip(p, towards, tEnter, tExit)) {
                     double opticalDepth = 0.0;
                     for (double s = tEnter + 0.5 * step; s < tExit; s += step) {
                         float rho;
@@ -88,6 +86,19 @@ openvdb::FloatGrid::Ptr CloudLighting::transmittanceGrid(const Vec3d& towards, c
             for (int i = 0; i < cells[0]; ++i)
                 accessor.setValue(openvdb::Coord(i, j, k), values[(std::size_t(k) * cells[1] + j) * cells[0] + i]);
     return grid;
+}
+
+openvdb::FloatGrid::Ptr CloudLighting::withSurfaceShadows(const openvdb::FloatGrid& transmittance, const Vec3d& towards,
+                                                          const Occlusion& blocked)
+{
+    openvdb::FloatGrid::Ptr shadowed = transmittance.deepCopy();
+    std::vector<openvdb::FloatTree::ValueOnIter> values;
+    for (auto it = shadowed->tree().beginValueOn(); it; ++it) values.push_back(it);
+    tbb::parallel_for(std::size_t(0), values.size(), [&](std::size_t i) {
+        openvdb::FloatTree::ValueOnIter& it = values[i];
+        if (blocked(shadowed->transform().indexToWorld(it.getCoord()), towards)) it.setValue(0.0f);
+    });
+    return shadowed;
 }
 
 double CloudLighting::sunTransmittance(const Vec3d& p) const

@@ -50,10 +50,10 @@ CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, d
     if (!mLighting.clip(origin, dir, tMin, tMax)) return segment;
     const openvdb::FloatGrid& densityGrid = mLighting.density();
     openvdb::FloatGrid::ConstAccessor density = densityGrid.getConstAccessor();
-    openvdb::FloatGrid::ConstAccessor sun = mLighting.sunTransmittanceGrid().getConstAccessor();
+    openvdb::FloatGrid::ConstAccessor sun = mLighting.sunInCloudGrid().getConstAccessor();
     openvdb::FloatGrid::ConstAccessor sky = mLighting.skyTransmittanceGrid().getConstAccessor();
     const openvdb::math::Transform& densityTransform = densityGrid.transform();
-    const openvdb::math::Transform& lightTransform = mLighting.sunTransmittanceGrid().transform(); // both grids share it
+    const openvdb::math::Transform& lightTransform = mLighting.sunInCloudGrid().transform(); // both grids share it
     // Sunlight travels along -toSun and leaves towards the origin along -dir:
     // the angle between the two is that between dir and toSun.
     const double phase = henyeyGreenstein(dir.dot(mLighting.toSun()), mAnisotropy);

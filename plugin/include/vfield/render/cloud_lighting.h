@@ -38,11 +38,15 @@ public:
     /// [tMin, tMax]; false if it misses.
     bool clip(const Vec3d& origin, const Vec3d& dir, double& tMin, double& tMax) const;
 
-    /// Transmittance of the cloud from p towards the sun (1 where no cloud is in the way).
+    /// Transmittance of the cloud alone from p towards the sun (1 where no
+    /// cloud is in the way), for surfaces: their shadows from other surfaces
+    /// come from their own shadow rays, so a surface beside a shadowed grid
+    /// point is not darkened by interpolation.
     double sunTransmittance(const Vec3d& p) const;
-    /// The transmittance grids themselves (sharing one transform), for
-    /// renderers that sample them along their rays.
-    const openvdb::FloatGrid& sunTransmittanceGrid() const { return *mSunTransmittance; }
+    /// The grids the cloud's own samples read (sharing one transform): the
+    /// sun's transmittance through the cloud, zero where a surface blocks the
+    /// sun, and the sky's transmittance from above.
+    const openvdb::FloatGrid& sunInCloudGrid() const { return *mSunInCloud; }
     const openvdb::FloatGrid& skyTransmittanceGrid() const { return *mSkyTransmittance; }
 
     /// Density x the sky's transmittance down to each voxel: where the cloud
@@ -50,11 +54,14 @@ public:
     openvdb::FloatGrid::Ptr skyLitDensity() const;
 
 private:
-    /// Transmittance towards a light (unit direction) over the box, coarser than the density.
-    openvdb::FloatGrid::Ptr transmittanceGrid(const Vec3d& towards, const Occlusion& blocked) const;
+    /// The cloud's transmittance towards a light (unit direction) over the box, coarser than the density.
+    openvdb::FloatGrid::Ptr transmittanceGrid(const Vec3d& towards) const;
+    /// A copy of a transmittance grid with zero where a surface blocks the light.
+    static openvdb::FloatGrid::Ptr withSurfaceShadows(const openvdb::FloatGrid& transmittance, const Vec3d& towards,
+                                                      const Occlusion& blocked);
 
     openvdb::FloatGrid::ConstPtr mDensity;
-    openvdb::FloatGrid::Ptr mSunTransmittance, mSkyTransmittance;
+    openvdb::FloatGrid::Ptr mSunTransmittance, mSunInCloud, mSkyTransmittance;
     BBoxd mBounds;
     Vec3d mToSun;
     double mExtinction;
