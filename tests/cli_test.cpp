@@ -1,6 +1,7 @@
 #include "test_meshes.h"
 
 #include <vfield/core/vdb_file.h>
+#include <vfield/mesh/mesh_io.h>
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
@@ -14,6 +15,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sys/wait.h>
+
+#include <nlohmann/json.hpp>
 
 namespace {
 
@@ -328,4 +331,37 @@ TEST_CASE("cli: --set changes scene values and names a bad override", "[cli][sce
     CHECK(simulate("--set /clouds/0/count=-5").err ==
           "vfield simulate: " + dir + "/s.json: /clouds/0/count: expected a positive integer, got -5\n");
     CHECK(simulate("--set /clouds/0/count").exitCode == 2);
+}
+
+TEST_CASE("cli: tracks.json's matrix places the object-space export where --frame places it", "[cli]")
+{
+    // The canyon's airplane is scaled 0.7: without the scale in tracks.json a
+    // host placed the unscaled export 1.43 times too large.
+    const std::string dir = vfield::test::scratchDir("cli-tracks-matrix");
+    const std::string scene = std::string(VFIELD_SCENES_DIR) + "/canyon_flythrough.json";
+    REQUIRE(vfieldCli("simulate " + scene + " -o " + dir + "/sim --frames 1-3 -q", dir).exitCode == 0);
+    REQUIRE(vfieldCli("export-mesh " + scene + " --object airplane -o " + dir + "/object.obj", dir).exitCode == 0);
+    REQUIRE(vfieldCli("export-mesh " + scene + " --object airplane --frame 3 --sim " + dir + "/sim -o " + dir + "/world.obj", dir)
+                .exitCode == 0);
+    const nlohmann::json tracks = nlohmann::json::parse(vfield::test::readTextFile(dir + "/sim/tracks.json"));
+    CHECK(tracks.at("convention").get<std::string>().find("for column vectors") != std::string::npos);
+    const nlohmann::json& entry = tracks.at("objects").at("airplane").at(2);
+    REQUIRE(entry.at("frame") == 3);
+    CHECK(entry.at("scale").get<double>() == Approx(0.7));
+    const std::vector<double> m = entry.at("matrix").get<std::vector<double>>();
+    REQUIRE(m.size() == 16);
+    CHECK(m[12] == 0.0);
+    CHECK(m[15] == 1.0);
+
+    const vfield::TriangleMesh object = vfield::loadMesh(dir + "/object.obj"), world = vfield::loadMesh(dir + "/world.obj");
+    REQUIRE(object.points.size() == world.points.size());
+    double worst = 0.0;
+    for (std::size_t i = 0; i < object.points.size(); ++i) {
+        const vfield::Vec3d p(object.points[i]);
+        vfield::Vec3d placed;
+        for (int row = 0; row < 3; ++row)
+            placed[row] = m[4 * row] * p[0] + m[4 * row + 1] * p[1] + m[4 * row + 2] * p[2] + m[4 * row + 3];
+        worst = std::max(worst, (placed - vfield::Vec3d(world.points[i])).length());
+    }
+    CHECK(worst < 1e-3); // the meshes hold float points, some hundreds of units from the origin
 }

@@ -112,8 +112,7 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
         for (std::size_t i = 0; i < setup.objects.size(); ++i) {
             const ObjectSpec& object = setup.objects[i];
             if (!object.isDynamic) continue;
-            Transform pose = tracks.pose(object.name, f);
-            pose.scale = object.transform.scale;
+            const Transform pose = tracks.pose(object.name, f);
             surfaces.setPose(int(i), pose);
             poses[int(i)] = pose;
             if (settings.camera.followObject && *settings.camera.followObject == object.name) followed = pose;

@@ -106,9 +106,17 @@ nlohmann::json objectsToJson(const std::map<std::string, std::vector<TrackEntry>
         nlohmann::json& track = json[name];
         for (const TrackEntry& e : entries) {
             const Quatd& q = e.pose.rotation;
+            // Transform::matrix() multiplies row vectors (OpenVDB's way); the
+            // file states the column-vector form that most hosts take.
+            const Mat4d m = e.pose.matrix();
+            nlohmann::json matrix = nlohmann::json::array();
+            for (int row = 0; row < 4; ++row)
+                for (int col = 0; col < 4; ++col) matrix.push_back(m(col, row));
             track.push_back({{"frame", e.frame},
                              {"position", vec(e.pose.translation)},
                              {"orientation", {q.x(), q.y(), q.z(), q.w()}},
+                             {"scale", e.pose.scale},
+                             {"matrix", matrix},
                              {"velocity", vec(e.velocity)}});
         }
     }
@@ -125,15 +133,19 @@ std::map<std::string, std::vector<TrackEntry>> objectsFromJson(const nlohmann::j
             const auto q = e.at("orientation").get<std::vector<double>>();
             entry.pose.translation = vecFromJson(e.at("position"));
             entry.pose.rotation = Quatd(q.at(0), q.at(1), q.at(2), q.at(3));
+            entry.pose.scale = e.at("scale").get<double>();
             entry.velocity = vecFromJson(e.at("velocity"));
             objects[name].push_back(entry);
         }
     return objects;
 }
 
-constexpr const char* kTracksConvention = "position: the object's pivot (its mesh's origin) in world space; "
-                                          "orientation: unit quaternion [x, y, z, w] rotating object space "
-                                          "(nose +x, up +y) into world space; velocity: world units per second";
+constexpr const char* kTracksConvention =
+    "object-to-world transform of the mesh that export-mesh writes in object space: world = position + "
+    "orientation * (scale * p); position: the object's pivot (its mesh's origin) in world space; orientation: "
+    "unit quaternion [x, y, z, w] rotating object space (nose +x, up +y) into world space; scale: uniform; "
+    "matrix: the same transform as a 4x4 matrix, 16 numbers row by row, for column vectors "
+    "(world = M [x, y, z, 1]^T, translation in the last column); velocity: world units per second";
 
 // --- the inputs' hash ---------------------------------------------------------
 
@@ -244,7 +256,7 @@ void add(ContentHash& h, const UniformFieldSpec& f)
 
 // --- state.bin ----------------------------------------------------------------
 
-constexpr const char* kRunStateHeader = "vfield-run 2";
+constexpr const char* kRunStateHeader = "vfield-run 3";
 
 } // namespace
 

@@ -18,8 +18,10 @@ Runner registerExportMesh(CLI::App& app, const GlobalOptions& global)
     };
     auto o = std::make_shared<Options>();
     CLI::App* command = app.add_subcommand(
-        "export-mesh", "Write a scene object's mesh as OBJ: static objects in world space; dynamic ones in object space "
-                       "(nose +x, up +y, pivot at the origin) unless --frame places them from a simulation's tracks");
+        "export-mesh",
+        "Write a scene object's mesh as OBJ. Static objects: world space (the scene's transform applied). Dynamic "
+        "objects: object space, unscaled (nose +x, up +y, pivot at the origin; tracks.json's per-frame transform, its "
+        "scale included, places it), or world space at --frame from a simulation's tracks.json");
     addSceneOptions(*command, o->scene);
     command->add_option("--object", o->object, "Object name")->required();
     command->add_option("--frame", o->frame, "Place a dynamic object as it is at this frame (needs --sim)");
@@ -35,9 +37,7 @@ Runner registerExportMesh(CLI::App& app, const GlobalOptions& global)
             mesh.transform(spec->transform.matrix());
         } else if (command->count("--frame") > 0) {
             if (o->sim.empty()) throw ValueError("--frame places a dynamic object from a simulation: give --sim DIR");
-            Transform pose = SimFolder(o->sim).readTracks().pose(o->object, o->frame);
-            pose.scale = spec->transform.scale;
-            mesh.transform(pose.matrix());
+            mesh.transform(SimFolder(o->sim).readTracks().pose(o->object, o->frame).matrix());
         }
         saveObj(mesh, o->output);
         log(global, o->output + ": " + std::to_string(mesh.triangleCount()) + " triangles");
