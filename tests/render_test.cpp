@@ -6,6 +6,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <OpenImageIO/imagebufalgo.h>
+
 #include <tbb/global_control.h>
 
 #include <cmath>
@@ -202,7 +204,7 @@ TEST_CASE("render: images are identical for 1 and 2 threads", "[render]")
     CHECK(one.rgba == two.rgba);
 }
 
-TEST_CASE("render: EXR frames are linear half floats with alpha and depth, and PNG is sRGB", "[render]")
+TEST_CASE("render: EXR frames hold half-float premultiplied colour and 32-bit depth, and PNG is sRGB", "[render]")
 {
     SmallScene scene;
     const RenderImage image = renderFrame(scene.frame);
@@ -214,15 +216,66 @@ TEST_CASE("render: EXR frames are linear half floats with alpha and depth, and P
     const OIIO::ImageSpec& spec = exr.spec();
     CHECK(spec.nchannels == 5);
     CHECK(spec.channelnames == std::vector<std::string>{"R", "G", "B", "A", "Z"});
-    CHECK(spec.format == OIIO::TypeDesc::HALF);
+    // Colours and alpha as half floats; depth as 32-bit floats (half has 0.25 units of precision at 300 units).
+    CHECK(exr.nativespec().channelformat(0) == OIIO::TypeDesc::HALF);
+    CHECK(exr.nativespec().channelformat(3) == OIIO::TypeDesc::HALF);
+    CHECK(exr.nativespec().channelformat(4) == OIIO::TypeDesc::FLOAT);
     // The pillar's centre: depth is the camera distance, colour the linear value.
     const int x = 48, y = 24;
     const float* linear = &image.rgba[4 * (std::size_t(y) * image.width + x)];
-    CHECK(exr.getchannel(x, y, 0, 4) == Approx(image.depth[std::size_t(y) * image.width + x]).epsilon(1e-3));
+    CHECK(exr.getchannel(x, y, 0, 4) == image.depth[std::size_t(y) * image.width + x]);
     CHECK(exr.getchannel(x, y, 0, 0) == Approx(linear[0]).epsilon(2e-3));
     CHECK(exr.getchannel(x, y, 0, 3) == 1.0f);
     OIIO::ImageBuf png(dir + "/f.png");
     REQUIRE(png.read());
     const double srgb = linear[0] <= 0.0031308 ? 12.92 * linear[0] : 1.055 * std::pow(linear[0], 1 / 2.4) - 0.055;
     CHECK(png.getchannel(x, y, 0, 0) == Approx(srgb).margin(1.0 / 255));
+}
+
+TEST_CASE("render: EXR frames composite over a plate with OIIO's over", "[render]")
+{
+    // Premultiplied RGBA: a drawn sky is opaque and hides the plate; a
+    // transparent sky shows it, and thin cloud adds its light over it.
+    SmallScene scene;
+    scene.settings.image.samplesPerPixel = 1;
+    const LitCloud cloud(constantBox({-6, 8, -3}, {6, 11, 3}, 0.25, 0.3f), scene.settings, scene.settings.sun.direction,
+                         &scene.surfaces);
+    scene.frame.volume = &cloud.volume;
+    const std::string dir = test::scratchDir("render-over");
+    const auto rgbaOf = [&](bool transparentSky) {
+        scene.settings.image.transparentSky = transparentSky;
+        const std::string path = dir + (transparentSky ? "/transparent.exr" : "/drawn.exr");
+        writeFrameImage(renderFrame(scene.frame), path);
+        OIIO::ImageBuf exr(path);
+        REQUIRE(exr.read(0, 0, true, OIIO::TypeDesc::FLOAT));
+        return OIIO::ImageBufAlgo::channels(exr, 4, {0, 1, 2, 3});
+    };
+    const OIIO::ImageBuf drawn = rgbaOf(false), transparent = rgbaOf(true);
+    OIIO::ImageBuf plate(drawn.spec());
+    const float red[4] = {0.8f, 0.1f, 0.1f, 1.0f};
+    OIIO::ImageBufAlgo::fill(plate, red);
+    const OIIO::ImageBuf overDrawn = OIIO::ImageBufAlgo::over(drawn, plate);
+    const OIIO::ImageBuf overTransparent = OIIO::ImageBufAlgo::over(transparent, plate);
+
+    int skyPixels = 0, cloudPixels = 0;
+    for (int y = 0; y < drawn.spec().height; ++y)
+        for (int x = 0; x < drawn.spec().width; ++x) {
+            float d[4], t[4], od[4], ot[4];
+            drawn.getpixel(x, y, d, 4);
+            transparent.getpixel(x, y, t, 4);
+            overDrawn.getpixel(x, y, od, 4);
+            overTransparent.getpixel(x, y, ot, 4);
+            INFO("pixel " << x << ", " << y);
+            REQUIRE(d[3] == 1.0f);
+            for (int c = 0; c < 3; ++c) REQUIRE(od[c] == Approx(d[c]).margin(1e-6)); // the plate is hidden
+            for (int c = 0; c < 3; ++c) REQUIRE(ot[c] == Approx(t[c] + red[c] * (1.0f - t[3])).margin(2e-3));
+            if (t[3] == 0.0f) {
+                ++skyPixels;
+                for (int c = 0; c < 3; ++c) REQUIRE(t[c] == 0.0f); // nothing added where nothing covers
+            } else if (t[3] < 0.999f) {
+                ++cloudPixels;
+            }
+        }
+    CHECK(skyPixels > 100);
+    CHECK(cloudPixels > 100);
 }

@@ -105,6 +105,7 @@ void renderSectionFromJson(const JsonValue& json, RenderSettings& settings)
         image.height = wh[1].asInt();
     }
     image.samplesPerPixel = o.integer("samplesPerPixel", image.samplesPerPixel);
+    image.transparentSky = o.boolean("transparentSky", image.transparentSky);
     MediumSettings& medium = settings.medium;
     medium.extinction = o.number("extinction", medium.extinction);
     medium.albedo = o.number("albedo", medium.albedo);

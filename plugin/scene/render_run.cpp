@@ -45,6 +45,8 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
     const bool useEmbree = options.backend != RenderBackend::Povray, usePovray = options.backend != RenderBackend::Embree;
     if (options.backend == RenderBackend::Povray && options.formats != std::vector<std::string>{"png"})
         throw ValueError("the POV-Ray back-end writes png images only");
+    if (usePovray && settings.image.transparentSky)
+        throw ValueError("a transparent sky is for EXR frames of the Embree back-end; the POV-Ray back-end draws the sky");
     const bool both = options.backend == RenderBackend::Both;
     if (both && std::find(options.formats.begin(), options.formats.end(), "png") == options.formats.end())
         throw ValueError("the side-by-side images of both back-ends are png: include png in the formats");

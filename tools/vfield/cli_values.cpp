@@ -51,6 +51,7 @@ void ImageOverrides::applyTo(ImageSettings& image) const
     if (width) image.width = *width;
     if (height) image.height = *height;
     if (samplesPerPixel) image.samplesPerPixel = *samplesPerPixel;
+    if (transparentSky) image.transparentSky = true;
 }
 
 void addImageOverrideOptions(CLI::App& command, ImageOverrides& overrides)
@@ -83,6 +84,8 @@ void addImageOverrideOptions(CLI::App& command, ImageOverrides& overrides)
             },
             "Samples per pixel [default: the scene's]")
         ->type_name("N");
+    command.add_flag("--transparent-sky", overrides.transparentSky,
+                     "Draw the sky as RGB 0, alpha 0 (premultiplied), to composite over a plate [default: the scene's]");
 }
 
 } // namespace vfield::cli

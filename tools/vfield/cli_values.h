@@ -21,6 +21,7 @@ void addFrameRangeOption(CLI::App& command, std::optional<FrameRange>& range, co
 /// checked against ImageSettings' own limits.
 struct ImageOverrides {
     std::optional<int> width, height, samplesPerPixel;
+    bool transparentSky = false;
     /// Applies the given values to image (the scene's copy every back-end reads).
     void applyTo(ImageSettings& image) const;
 };

@@ -80,8 +80,11 @@ RenderImage renderFrame(const FrameToRender& f)
                     SurfaceHit hit;
                     const bool isSurface =
                         f.surfaces->intersect(f.camera.position(), dir, 0.0, std::numeric_limits<double>::max(), hit);
-                    Vec3d radiance = isSurface ? shadeSurface(hit) : skyRadiance(s, dir);
-                    double opacity = isSurface ? 1.0 : 0.0;
+                    // Premultiplied: a drawn sky is an opaque background; a
+                    // transparent one adds neither light nor coverage.
+                    const bool drawSky = !s.image.transparentSky;
+                    Vec3d radiance = isSurface ? shadeSurface(hit) : drawSky ? skyRadiance(s, dir) : Vec3d(0.0);
+                    double opacity = isSurface || drawSky ? 1.0 : 0.0;
                     if (f.volume) {
                         const CloudVolume::Segment cloud =
                             f.volume->march(f.camera.position(), dir, 0.0, isSurface ? hit.distance : 1e30, random.next(),

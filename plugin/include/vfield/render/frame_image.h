@@ -14,8 +14,9 @@ namespace vfield {
 
 struct RenderImage {
     int width = 0, height = 0;
-    /// Linear RGB, the sky included; A is the coverage by surfaces and cloud
-    /// (0 for clear sky, between 0 and 1 through thin cloud).
+    /// Linear RGB premultiplied by A: A is 1 where surfaces or a drawn sky
+    /// are seen; with a transparent sky, the coverage by surfaces and cloud
+    /// (0 for clear sky, 1 - transmittance through cloud).
     std::vector<float> rgba;
     std::vector<float> depth; ///< camera distance to the first surface; +inf for sky
 };

@@ -52,6 +52,9 @@ struct ImageSettings {
 
     int width = 640, height = 360; ///< pixels (1..kMaxResolution)
     int samplesPerPixel = 4;       ///< (1..65536)
+    /// The sky drawn as RGB 0, alpha 0, for compositing over a plate; by
+    /// default it is drawn, opaque (alpha 1). Frames are premultiplied either way.
+    bool transparentSky = false;
 
     /// Keys as in a scene file's "render": "resolution/0", "samplesPerPixel".
     void validate() const;
