@@ -54,6 +54,42 @@ TEST_CASE("cli: probe prints the octree's force at each point", "[cli]")
     CHECK(probe.err.empty());
 }
 
+TEST_CASE("cli: an inside-out mesh is oriented outward with a warning, and --flip-normals turns it", "[cli]")
+{
+    // Every triangle of make-mesh's sphere reversed: its field pulled objects in
+    // ((-4.9, -0.6, -0.7) at (1.15, 0, 0)).
+    const std::string dir = vfield::test::scratchDir("cli-inside-out");
+    REQUIRE(vfieldCli("make-mesh sphere -o " + dir + "/sphere.obj -q", dir).exitCode == 0);
+    std::istringstream lines(vfield::test::readTextFile(dir + "/sphere.obj"));
+    std::ofstream inverted(dir + "/inverted.obj");
+    for (std::string line; std::getline(lines, line);) {
+        if (line.rfind("f ", 0) == 0) {
+            std::istringstream f(line.substr(2));
+            std::string a, b, c;
+            f >> a >> b >> c;
+            inverted << "f " << a << ' ' << c << ' ' << b << '\n';
+        } else {
+            inverted << line << '\n';
+        }
+    }
+    inverted.close();
+    std::ofstream(dir + "/points.csv") << "1.15,0,0\n";
+    const auto forceX = [&](const std::string& options, std::string* err = nullptr) {
+        const Run probe = vfieldCli("probe " + dir + "/inverted.obj --points " + dir + "/points.csv " + options, dir);
+        REQUIRE(probe.exitCode == 0);
+        if (err) *err = probe.err;
+        // The second line, "x,y,z,fx,fy,fz,level,surface": its fourth value.
+        std::istringstream values(probe.out.substr(probe.out.find('\n') + 1));
+        std::string value;
+        for (int column = 0; column < 4; ++column) std::getline(values, value, ',');
+        return std::stod(value);
+    };
+    std::string err;
+    CHECK(forceX("", &err) > 1.0);
+    CHECK(err.find(dir + "/inverted.obj: closed mesh oriented outward (1 inside-out pieces turned") != std::string::npos);
+    CHECK(forceX("--flip-normals -q") < -1.0);
+}
+
 TEST_CASE("cli: a malformed points file is one error line naming the line", "[cli]")
 {
     const std::string dir = vfield::test::scratchDir("cli-bad-points");

@@ -2,6 +2,7 @@
 
 #include <vfield/core/error.h>
 #include <vfield/field/octree_field.h>
+#include <vfield/mesh/mesh_io.h>
 #include <vfield/mesh/procedural.h>
 
 #include <catch2/catch.hpp>
@@ -128,7 +129,7 @@ TEST_CASE("octree field: an empty leaf takes its parent's direction as in the pa
     requireForce(field.sample({1.0, 3.0, 3.0}), {s, 0, 8 * s}, 2, false);
 }
 
-TEST_CASE("octree field: a node whose normals cancel takes its parent's direction", "[field]")
+TEST_CASE("octree field (paper rule): a node whose normals cancel takes its parent's direction", "[field]")
 {
     // Seven +x triangles in the (+,+,+) octant and a two-sided triangle (both
     // windings) in the (-,-,-) octant: the root's average is +x, the (-,-,-)
@@ -145,17 +146,54 @@ TEST_CASE("octree field: a node whose normals cancel takes its parent's directio
     mesh.triangles.emplace_back(base, base + 1, base + 2);
     mesh.triangles.emplace_back(base, base + 2, base + 1);
 
-    const OctreeField field = OctreeField::build(mesh, withMargin(0.0));
+    OctreeFieldOptions paper = withMargin(0.0);
+    paper.splitRule = SplitRule::Paper;
+    const OctreeField field = OctreeField::build(mesh, paper);
     REQUIRE(field.bounds().min() == Vec3d(0.0));
     requireForce(field.sample({0.5, 0.25, 0.5}), {20, 0, 0}, 2, true);
 }
 
-TEST_CASE("octree field: normals that cancel at the root give zero force", "[field]")
+TEST_CASE("octree field (paper rule): normals that cancel at the root give zero force", "[field]")
 {
     TriangleMesh twoSided = singleTriangle();
     twoSided.triangles.emplace_back(0, 2, 1);
-    const OctreeField field = OctreeField::build(twoSided);
+    OctreeFieldOptions paper;
+    paper.splitRule = SplitRule::Paper;
+    const OctreeField field = OctreeField::build(twoSided, paper);
     requireForce(field.sample({0.5, 0.5, 0.0}), {0, 0, 0}, 1, true);
+    // Split by the normal cone down to maxLevel, the two windings stay together and still cancel.
+    const OctreeField cone = OctreeField::build(twoSided);
+    CHECK(cone.sample({0.5, 0.5, 0.0}).level == OctreeFieldOptions{}.maxLevel);
+    CHECK(cone.sample({0.5, 0.5, 0.0}).force == Vec3f(0.0f));
+}
+
+TEST_CASE("octree field: the two sides of a thin part push away from it, beyond the paper's rule", "[field]")
+{
+    // The shipped airplane's wing: just above and just below it. The paper's
+    // rule keeps top, bottom and leading edge in one leaf, whose average
+    // points forward (+x) on both sides.
+    const TriangleMesh airplane = loadMesh(std::string(VFIELD_SCENES_DIR) + "/meshes/airplane.obj");
+    const Vec3d above(0.05, 0.2, 3.0), below(0.05, -0.25, 3.0);
+    const OctreeField cone = OctreeField::build(airplane);
+    CHECK(cone.sample(above).force[1] > 10.0f);
+    CHECK(cone.sample(below).force[1] < -10.0f);
+    CHECK(std::abs(cone.sample(above).force[0]) < 1e-6f);
+    OctreeFieldOptions paper;
+    paper.splitRule = SplitRule::Paper;
+    const OctreeField paperField = OctreeField::build(airplane, paper);
+    CHECK(paperField.sample(above).force == Vec3f(40, 0, 0));
+    CHECK(paperField.sample(below).force == Vec3f(40, 0, 0));
+
+    // A thin plate (12 triangles, 0.1 thick) that the count rule never splits.
+    OctreeFieldOptions few;
+    few.maxPerLeaf = 16;
+    const TriangleMesh plate = makeBox({{-2, -0.05, -2}, {2, 0.05, 2}});
+    const OctreeField plateField = OctreeField::build(plate, few);
+    for (const double x : {-1.3, 0.2, 1.7}) {
+        INFO("x " << x);
+        CHECK(plateField.sample({x, 0.07, 0.3}).force[1] > 0.0f);
+        CHECK(plateField.sample({x, -0.07, 0.3}).force[1] < 0.0f);
+    }
 }
 
 TEST_CASE("octree field: over a plane every leaf points along its normal and grows with depth", "[field]")

@@ -50,3 +50,61 @@ TEST_CASE("triangle mesh: transform and append keep the triangles' points", "[me
     CHECK(a.bounds().max() == Vec3d(11, 1, 1));
     CHECK(a.bounds().min() == Vec3d(-1, -1, -1));
 }
+
+namespace {
+
+TriangleMesh reversed(TriangleMesh mesh)
+{
+    for (Vec3ui& t : mesh.triangles) std::swap(t[1], t[2]);
+    return mesh;
+}
+
+} // namespace
+
+TEST_CASE("triangle mesh: an inside-out closed mesh is turned outward", "[mesh]")
+{
+    TriangleMesh sphere = reversed(makeSphere({}));
+    REQUIRE(signedVolume(sphere) < 0.0);
+    const OrientationRepair repair = orientClosedPiecesOutward(sphere);
+    CHECK(repair.piecesTurnedOut == 1);
+    CHECK(repair.trianglesFlipped == 0);
+    CHECK(signedVolume(sphere) > 0.0);
+    CHECK(analyzeTopology(sphere).isClosed());
+    // An outward mesh is left alone.
+    const TriangleMesh before = sphere;
+    CHECK_FALSE(orientClosedPiecesOutward(sphere).changed());
+    CHECK(sphere.triangles == before.triangles);
+}
+
+TEST_CASE("triangle mesh: triangles wound against their neighbours are flipped to agree", "[mesh]")
+{
+    TriangleMesh sphere = makeSphere({});
+    for (const std::size_t t : {3u, 40u, 41u, 200u, 999u}) std::swap(sphere.triangles[t][1], sphere.triangles[t][2]);
+    REQUIRE(analyzeTopology(sphere).misorientedEdges > 0);
+    const OrientationRepair repair = orientClosedPiecesOutward(sphere);
+    CHECK(repair.trianglesFlipped == 5);
+    CHECK(repair.piecesTurnedOut == 0);
+    CHECK(analyzeTopology(sphere).isClosed());
+    CHECK(sphere.triangles == makeSphere({}).triangles);
+
+    // Two pieces, one inside out: each is oriented on its own.
+    TriangleMesh two = makeBox({{0, 0, 0}, {1, 1, 1}});
+    two.append(reversed(makeBox({{3, 0, 0}, {4, 1, 1}})));
+    CHECK(orientClosedPiecesOutward(two).piecesTurnedOut == 1);
+    CHECK(signedVolume(two) == Approx(2.0));
+}
+
+TEST_CASE("triangle mesh: open meshes keep their winding", "[mesh]")
+{
+    // A sheet wound downward, and a box with a missing face: no inside to tell outward by.
+    TriangleMesh sheet;
+    sheet.points = {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}};
+    sheet.triangles = {{0, 1, 2}, {0, 2, 3}};
+    TriangleMesh open = reversed(makeBox({{0, 0, 0}, {1, 1, 1}}));
+    open.triangles.pop_back();
+    for (TriangleMesh* mesh : {&sheet, &open}) {
+        const TriangleMesh before = *mesh;
+        CHECK_FALSE(orientClosedPiecesOutward(*mesh).changed());
+        CHECK(mesh->triangles == before.triangles);
+    }
+}

@@ -32,6 +32,9 @@ OctreeFieldOptions octreeFieldOptionsFromJson(const JsonValue& json)
         options.maxLevel = o.integer("maxLevel", options.maxLevel);
         options.strength = o.number("strength", options.strength);
         options.surfaceBoost = o.number("surfaceBoost", options.surfaceBoost);
+        options.flipNormals = o.boolean("flipNormals", options.flipNormals);
+        options.splitRule =
+            o.choice("splitRule", "normalCone", {"normalCone", "paper"}) == "paper" ? SplitRule::Paper : SplitRule::NormalCone;
     });
 }
 
@@ -89,10 +92,13 @@ public:
             const Vec3d average = sum / double(inside.size());
             if (average.length() >= kZeroAverage) direction = Vec3f(average.unitSafe());
         }
+        const bool split = (inside.size() > std::size_t(mOptions.maxPerLeaf) ||
+                            (mOptions.splitRule == SplitRule::NormalCone && normalsOppose(inside))) &&
+                           level < mOptions.maxLevel;
 
         OctreeField::Node node;
         node.level = uint8_t(level);
-        if (inside.size() <= std::size_t(mOptions.maxPerLeaf) || level >= mOptions.maxLevel) {
+        if (!split) {
             node.direction = direction;
             node.isSurface = !inside.empty();
             out[index] = node;
@@ -128,6 +134,19 @@ public:
     int depth() const { return mDepth.load(); }
 
 private:
+    /// Whether two of the node's triangles face more than 90 degrees apart
+    /// (the two sides of a thin part, a fold), so that their average would
+    /// point along the part rather than away from either side. Asked only of
+    /// nodes the count rule would keep, at most maxPerLeaf triangles: the
+    /// pairwise test stays cheap.
+    bool normalsOppose(const std::vector<uint32_t>& inside) const
+    {
+        for (std::size_t i = 0; i < inside.size(); ++i)
+            for (std::size_t j = i + 1; j < inside.size(); ++j)
+                if (mTriangles[inside[i]].normal.dot(mTriangles[inside[j]].normal) < 0.0) return true;
+        return false;
+    }
+
     /// Sorts the node's triangles into the octants whose closed boxes they overlap.
     void distribute(const uint32_t cell[3], int level, const std::vector<uint32_t>& inside,
                     std::vector<uint32_t> octantTriangles[8], uint32_t childCells[8][3]) const
@@ -209,7 +228,8 @@ OctreeField OctreeField::build(const TriangleMesh& mesh, const OctreeFieldOption
         const Vec3d area = mesh.areaVector(i);
         if (!(area.lengthSqr() > 0.0)) continue; // zero-area triangles have no normal
         const Vec3ui& t = mesh.triangles[i];
-        BuildTriangle tri{Vec3d(mesh.points[t[0]]), Vec3d(mesh.points[t[1]]), Vec3d(mesh.points[t[2]]), area.unitSafe()};
+        const Vec3d normal = options.flipNormals ? -area.unitSafe() : area.unitSafe();
+        BuildTriangle tri{Vec3d(mesh.points[t[0]]), Vec3d(mesh.points[t[1]]), Vec3d(mesh.points[t[2]]), normal};
         box.expand(tri.a);
         box.expand(tri.b);
         box.expand(tri.c);

@@ -116,6 +116,20 @@ void appendNodeMeshes(const aiScene& scene, const std::string& path, TriangleMes
 
 } // namespace
 
+std::vector<std::string> MeshLoadReport::lines(const std::string& path) const
+{
+    std::vector<std::string> lines;
+    if (degenerateTrianglesRemoved > 0)
+        lines.push_back(path + ": dropped " + std::to_string(degenerateTrianglesRemoved) + " zero-area triangles");
+    if (nonTriangleFacesIgnored > 0)
+        lines.push_back(path + ": ignored " + std::to_string(nonTriangleFacesIgnored) + " points and lines");
+    if (orientation.changed())
+        lines.push_back(path + ": closed mesh oriented outward (" + std::to_string(orientation.piecesTurnedOut) +
+                        " inside-out pieces turned, " + std::to_string(orientation.trianglesFlipped) +
+                        " triangles flipped to agree with their neighbours); repulsion.flipNormals turns it around");
+    return lines;
+}
+
 TriangleMesh loadMesh(const std::string& path, MeshLoadReport* reportOut)
 {
     checkReadableFile(path);
@@ -149,6 +163,7 @@ TriangleMesh loadMesh(const std::string& path, MeshLoadReport* reportOut)
     mergeIdenticalPoints(mesh);
     report.degenerateTrianglesRemoved = removeDegenerateTriangles(mesh);
     if (mesh.empty()) throw FileError(path, "the file holds no triangle of non-zero area");
+    report.orientation = orientClosedPiecesOutward(mesh);
     if (reportOut) *reportOut = report;
     return mesh;
 }

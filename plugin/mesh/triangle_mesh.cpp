@@ -137,6 +137,79 @@ MeshTopology analyzeTopology(const TriangleMesh& mesh)
     return topology;
 }
 
+OrientationRepair orientClosedPiecesOutward(TriangleMesh& mesh)
+{
+    // Every undirected edge and the triangles that use it.
+    const std::size_t n = mesh.triangles.size();
+    std::unordered_map<uint64_t, std::vector<uint32_t>> users;
+    users.reserve(n * 2);
+    const auto edgeKey = [](uint32_t a, uint32_t b) { return (uint64_t(std::min(a, b)) << 32) | std::max(a, b); };
+    for (uint32_t t = 0; t < n; ++t)
+        for (int corner = 0; corner < 3; ++corner)
+            users[edgeKey(mesh.triangles[t][corner], mesh.triangles[t][(corner + 1) % 3])].push_back(t);
+    // Whether triangle t traverses the edge a -> b (rather than b -> a).
+    const auto traverses = [&](uint32_t t, uint32_t a, uint32_t b) {
+        const Vec3ui& v = mesh.triangles[t];
+        for (int corner = 0; corner < 3; ++corner)
+            if (v[corner] == a && v[(corner + 1) % 3] == b) return true;
+        return false;
+    };
+
+    OrientationRepair repair;
+    std::vector<int8_t> flip(n, -1); // per triangle: -1 unvisited, else whether it is flipped relative to its piece's seed
+    std::vector<uint32_t> piece, queue;
+    for (uint32_t seed = 0; seed < n; ++seed) {
+        if (flip[seed] >= 0) continue;
+        // Walk the piece across shared edges, choosing each triangle's winding
+        // to traverse the edge opposite to its already-placed neighbour.
+        piece.clear();
+        queue.assign(1, seed);
+        flip[seed] = 0;
+        bool closed = true;
+        while (!queue.empty()) {
+            const uint32_t t = queue.back();
+            queue.pop_back();
+            piece.push_back(t);
+            for (int corner = 0; corner < 3; ++corner) {
+                const uint32_t a = mesh.triangles[t][corner], b = mesh.triangles[t][(corner + 1) % 3];
+                const std::vector<uint32_t>& around = users[edgeKey(a, b)];
+                if (around.size() != 2) {
+                    closed = false;
+                    continue;
+                }
+                const uint32_t other = around[0] == t ? around[1] : around[0];
+                if (flip[other] >= 0) continue;
+                // As stored, t runs a -> b; with flips applied they must run opposite ways.
+                const bool sameWay = traverses(other, a, b);
+                flip[other] = int8_t(sameWay != bool(flip[t]));
+                queue.push_back(other);
+            }
+        }
+        if (!closed) {
+            for (const uint32_t t : piece) flip[t] = 0;
+            continue;
+        }
+        // The consistent winding closer to the file's, then outward.
+        std::size_t flipped = 0;
+        for (const uint32_t t : piece) flipped += std::size_t(flip[t]);
+        const bool invert = 2 * flipped > piece.size();
+        double sixTimesVolume = 0.0;
+        for (const uint32_t t : piece) {
+            const Vec3ui& v = mesh.triangles[t];
+            const double sign = bool(flip[t]) != invert ? -1.0 : 1.0;
+            sixTimesVolume += sign * Vec3d(mesh.points[v[0]]).dot(Vec3d(mesh.points[v[1]]).cross(Vec3d(mesh.points[v[2]])));
+        }
+        const bool turnOut = sixTimesVolume < 0.0;
+        repair.trianglesFlipped += invert ? piece.size() - flipped : flipped;
+        repair.piecesTurnedOut += turnOut;
+        for (const uint32_t t : piece) {
+            if ((bool(flip[t]) != invert) != turnOut) std::swap(mesh.triangles[t][1], mesh.triangles[t][2]);
+            flip[t] = 0;
+        }
+    }
+    return repair;
+}
+
 double signedVolume(const TriangleMesh& mesh)
 {
     double sixTimesVolume = 0.0;

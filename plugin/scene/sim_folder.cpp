@@ -219,6 +219,8 @@ void add(ContentHash& h, const OctreeFieldOptions& o)
     for (const int v : {o.maxPerLeaf, o.maxLevel}) add(h, int64_t(v));
     add(h, o.strength);
     add(h, o.surfaceBoost);
+    add(h, int64_t(o.flipNormals));
+    add(h, int64_t(o.splitRule));
 }
 
 void add(ContentHash& h, const ObjectSpec& o)

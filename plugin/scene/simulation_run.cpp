@@ -43,7 +43,8 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
     Simulator simulator(setup);
     const ClearanceProbe clearance(simulator);
     SimulateSummary summary;
-    summary.warnings = clearance.warnings();
+    summary.warnings = simulator.meshReports();
+    for (const std::string& warning : clearance.warnings()) summary.warnings.push_back(warning);
 
     // Resume after the last complete frame of an earlier run of this scene with
     // the same inputs; a run of an earlier edit of it is stale.

@@ -107,7 +107,7 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
     tbb::parallel_for(std::size_t(0), mObjects.size(), [&](std::size_t i) {
         SimObject& object = mObjects[i];
         object.spec = &mSetup.objects[i];
-        object.mesh = makeMesh(object.spec->mesh);
+        object.mesh = makeMesh(object.spec->mesh, &object.loadReport);
         if (object.spec->repulsion) {
             object.field = std::make_shared<OctreeField>(OctreeField::build(object.mesh, *object.spec->repulsion));
             VoxelizeOptions voxelize;
@@ -157,6 +157,14 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
     }
     mDomain = mSetup.options.domain.value_or(domain);
     mStatesAtFrameStart = mStates;
+}
+
+std::vector<std::string> Simulator::meshReports() const
+{
+    std::vector<std::string> lines;
+    for (const SimObject& object : mObjects)
+        for (const std::string& line : object.loadReport.lines(object.spec->mesh.path)) lines.push_back(line);
+    return lines;
 }
 
 Transform Simulator::poseAt(std::size_t object, double time) const

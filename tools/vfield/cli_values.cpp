@@ -46,6 +46,17 @@ void addFrameRangeOption(CLI::App& command, std::optional<FrameRange>& range, co
         ->type_name("A-B");
 }
 
+void addSplitRuleOption(CLI::App& command, std::optional<SplitRule>& rule)
+{
+    command
+        .add_option("--split-rule", rule,
+                    "When an octree node is split: normalCone (also while its triangles' normals oppose, so thin parts "
+                    "push both ways) or paper (the triangle count only, as the paper) [default: the scene's, else "
+                    "normalCone]")
+        ->transform(CLI::CheckedTransformer(
+            std::map<std::string, SplitRule>{{"normalCone", SplitRule::NormalCone}, {"paper", SplitRule::Paper}}));
+}
+
 void ImageOverrides::applyTo(ImageSettings& image) const
 {
     if (width) image.width = *width;

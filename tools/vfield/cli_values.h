@@ -4,6 +4,7 @@
 
 #include "command.h"
 
+#include <vfield/field/octree_field.h>
 #include <vfield/render/render_settings.h>
 
 #include <optional>
@@ -16,6 +17,9 @@ struct FrameRange {
 
 /// --frames A-B or A.
 void addFrameRangeOption(CLI::App& command, std::optional<FrameRange>& range, const std::string& help);
+
+/// --split-rule normalCone|paper, for every command that builds a field.
+void addSplitRuleOption(CLI::App& command, std::optional<SplitRule>& rule);
 
 /// --resolution WxH and --spp N: changes to the scene's image settings,
 /// checked against ImageSettings' own limits.

@@ -129,6 +129,7 @@ Runner registerRun(CLI::App& app, const GlobalOptions& global)
     CLI::App* command = app.add_subcommand(
         "run", "Simulate and render a scene: OUT/sim/ (volumes, particles, tracks, stats) and OUT/frame.####.png");
     addSceneOptions(*command, o->scene);
+    addSplitRuleOption(*command, o->scene.splitRule);
     command->add_option("-o,--output", o->output, "Output folder")->required();
     addRenderOptions(*command, o->render);
 

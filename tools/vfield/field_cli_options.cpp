@@ -1,4 +1,5 @@
 #include "field_cli_options.h"
+#include "cli_values.h"
 
 #include <vfield/mesh/mesh_io.h>
 #include <vfield/mesh/tessellate.h>
@@ -20,6 +21,9 @@ void addFieldOptions(CLI::App& command, FieldCliOptions& o)
     command.add_option("--strength", o.octree.strength, "Force magnitude per level")->capture_default_str();
     command.add_option("--surface-boost", o.octree.surfaceBoost, "Magnitude factor in leaves holding triangles")
         ->capture_default_str();
+    command.add_flag("--flip-normals", o.octree.flipNormals,
+                     "Build the field from the triangles' reversed normals (after closed meshes are oriented outward)");
+    addSplitRuleOption(command, o.splitRule);
     command.add_option("--tessellate", o.tessellateEdge, "Split mesh edges longer than this first, object units")
         ->check(CLI::PositiveNumber);
 }
@@ -28,13 +32,11 @@ MeshAndField loadMeshAndBuildField(const FieldCliOptions& o, const GlobalOptions
 {
     OctreeFieldOptions octree = o.octree;
     if (o.command->count("--margin") > 0) octree.margin = o.margin;
+    if (o.splitRule) octree.splitRule = *o.splitRule;
 
     MeshLoadReport report;
     TriangleMesh mesh = loadMesh(o.meshPath, &report);
-    if (report.degenerateTrianglesRemoved > 0)
-        log(global, o.meshPath + ": dropped " + std::to_string(report.degenerateTrianglesRemoved) + " zero-area triangles");
-    if (report.nonTriangleFacesIgnored > 0)
-        log(global, o.meshPath + ": ignored " + std::to_string(report.nonTriangleFacesIgnored) + " points and lines");
+    for (const std::string& line : report.lines(o.meshPath)) log(global, line);
     if (o.command->count("--tessellate") > 0) mesh = tessellate(mesh, o.tessellateEdge);
 
     const auto start = std::chrono::steady_clock::now();

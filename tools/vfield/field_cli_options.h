@@ -6,6 +6,7 @@
 #include <vfield/field/octree_field.h>
 #include <vfield/mesh/triangle_mesh.h>
 
+#include <optional>
 #include <string>
 
 namespace vfield::cli {
@@ -15,6 +16,7 @@ struct FieldCliOptions {
     double margin = 0.0;
     double tessellateEdge = 0.0;
     OctreeFieldOptions octree;
+    std::optional<SplitRule> splitRule;
     const CLI::App* command = nullptr;
 };
 

@@ -21,7 +21,11 @@ Scene loadScene(const SceneCliOptions& options)
         const std::size_t equals = text.find('=');
         overrides.push_back({text.substr(0, equals), text.substr(equals + 1)});
     }
-    return vfield::loadScene(options.path, overrides);
+    Scene scene = vfield::loadScene(options.path, overrides);
+    if (options.splitRule)
+        for (ObjectSpec& object : scene.simulation.objects)
+            if (object.repulsion) object.repulsion->splitRule = *options.splitRule;
+    return scene;
 }
 
 } // namespace vfield::cli

@@ -6,6 +6,7 @@
 
 #include <vfield/scene/scene.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,7 @@ namespace vfield::cli {
 struct SceneCliOptions {
     std::string path;
     std::vector<std::string> overrides; ///< "POINTER=JSON", in order
+    std::optional<SplitRule> splitRule; ///< for every object's field (--split-rule, simulate and run)
 };
 
 /// Declares SCENE and --set.

@@ -9,7 +9,11 @@
 /// - A node is split into 8 equal octants while more than maxPerLeaf triangles
 ///   overlap its closed box (exact triangle-box test, boxes grown by 1e-9 of
 ///   their size so that a triangle on a boundary reliably touches both sides)
-///   and its level is below maxLevel.
+///   and its level is below maxLevel. Beyond the paper (SplitRule::NormalCone,
+///   the default), a node is also split while two of its triangles face more
+///   than 90 degrees apart (a normal cone wider than a half-space): the two
+///   faces of a thin part would otherwise average to nothing, or to a third
+///   face's direction, and push along the part instead of away from it.
 /// - Direction of every node (interior nodes included, while building): the
 ///   normalized average of the unit normals of the triangles overlapping it. A
 ///   leaf without triangles, or a node whose average is shorter than 1e-9,
@@ -30,6 +34,12 @@
 
 namespace vfield {
 
+/// When a node is split.
+enum class SplitRule {
+    NormalCone, ///< while it holds more than maxPerLeaf triangles, or triangles whose normals oppose
+    Paper,      ///< while it holds more than maxPerLeaf triangles: the paper's rule exactly
+};
+
 struct OctreeFieldOptions {
     /// Dead space between the mesh's bounding box and the root cube on every
     /// side, object-space units (0..1e12). Unset: 10% of the largest extent.
@@ -38,6 +48,11 @@ struct OctreeFieldOptions {
     int maxLevel = 8;           ///< deepest level; the root is level 1 (1..20)
     double strength = 1.0;      ///< magnitude per level, acceleration units (0..1e12)
     double surfaceBoost = 10.0; ///< magnitude factor in leaves that hold triangles (1..1e12)
+    /// Build from the triangles' reversed normals: the field pushes into the
+    /// mesh's other side (a closed mesh meant to hold things inside it, or an
+    /// open sheet wound the wrong way).
+    bool flipNormals = false;
+    SplitRule splitRule = SplitRule::NormalCone;
 
     /// Throws OptionError naming the first option out of range.
     void validate() const;

@@ -9,16 +9,23 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 namespace vfield {
 
-/// What loading found besides the mesh, for the caller's log.
+/// What loading found and repaired besides the mesh, for the caller's log.
 struct MeshLoadReport {
     std::size_t degenerateTrianglesRemoved = 0; ///< zero-area triangles dropped
     std::size_t nonTriangleFacesIgnored = 0;    ///< points and lines in the file
+    OrientationRepair orientation;              ///< closed pieces turned outward (orientClosedPiecesOutward)
+
+    /// One line per finding, each naming the file ("a.obj: ..."); the
+    /// orientation's is a warning, since it changes which way the field pushes.
+    std::vector<std::string> lines(const std::string& path) const;
 };
 
-/// Reads a mesh file. Throws FileError ("<path>: <problem>") for a missing,
+/// Reads a mesh file; closed pieces are oriented outward (an inside-out
+/// mesh would attract instead of repel). Throws FileError ("<path>: <problem>") for a missing,
 /// unreadable, empty, malformed or non-finite file, or one with no triangle of
 /// non-zero area.
 TriangleMesh loadMesh(const std::string& path, MeshLoadReport* report = nullptr);

@@ -52,6 +52,23 @@ struct MeshTopology {
 };
 MeshTopology analyzeTopology(const TriangleMesh& mesh);
 
+/// What orientClosedPiecesOutward changed.
+struct OrientationRepair {
+    std::size_t trianglesFlipped = 0; ///< turned to agree with their neighbours
+    std::size_t piecesTurnedOut = 0;  ///< closed pieces that were inside out (negative volume)
+    bool changed() const { return trianglesFlipped > 0 || piecesTurnedOut > 0; }
+};
+
+/// Orients every closed piece of the mesh outward, as the field needs it:
+/// pieces are the sets of triangles joined by edges that two triangles share;
+/// a piece with no hole and no edge of three or more triangles is closed. In
+/// a closed piece, triangles that traverse a shared edge the same way as their
+/// neighbour are flipped (the fewer of the two windings is flipped), and the
+/// whole piece is turned around if its signed volume is negative. Open pieces
+/// (height fields, single sheets) keep their winding: they have no inside to
+/// tell outward by.
+OrientationRepair orientClosedPiecesOutward(TriangleMesh& mesh);
+
 /// Signed volume by the divergence theorem: positive for a closed mesh whose
 /// normals point outward.
 double signedVolume(const TriangleMesh& mesh);

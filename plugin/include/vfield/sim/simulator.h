@@ -32,6 +32,7 @@ struct SimObject {
     std::shared_ptr<OctreeField> field; ///< null without repulsion
     openvdb::Vec3SGrid::Ptr forceGrid;  ///< the field voxelized in object space; null without repulsion
     std::vector<Vec3d> centroids;       ///< object space, for the hit test (dynamic objects)
+    MeshLoadReport loadReport;          ///< what loading a mesh file found and repaired
 };
 
 /// A dynamic object's state at a frame.
@@ -69,6 +70,8 @@ public:
     /// Per object (same order as objects()): dynamic state, or the fixed pose of a static object.
     const std::vector<DynamicState>& objectStates() const { return mStates; }
     const BBoxd& domain() const { return mDomain; }
+    /// What loading the mesh files found and repaired, a line each naming the file.
+    std::vector<std::string> meshReports() const;
     /// The finest leaf size over all fields, world units: what cfl scales.
     double finestCellSize() const { return mFinestCell; }
 
