@@ -49,12 +49,17 @@ void addFrameRangeOption(CLI::App& command, std::optional<FrameRange>& range, co
 void addSplitRuleOption(CLI::App& command, std::optional<SplitRule>& rule)
 {
     command
-        .add_option("--split-rule", rule,
-                    "When an octree node is split: normalCone (also while its triangles' normals oppose, so thin parts "
-                    "push both ways) or paper (the triangle count only, as the paper) [default: the scene's, else "
-                    "normalCone]")
-        ->transform(CLI::CheckedTransformer(
-            std::map<std::string, SplitRule>{{"normalCone", SplitRule::NormalCone}, {"paper", SplitRule::Paper}}));
+        .add_option_function<std::string>(
+            "--split-rule",
+            [&rule](const std::string& text) {
+                if (text == "normalCone") rule = SplitRule::NormalCone;
+                else if (text == "paper") rule = SplitRule::Paper;
+                else throw CLI::ValidationError("--split-rule", "expected normalCone or paper, got '" + text + "'");
+            },
+            "When an octree node is split: normalCone (also while two of its triangles face more than 90 degrees "
+            "apart, so thin parts push away on both sides) or paper (the triangle count only, as the paper) "
+            "[default: normalCone; for a scene, its objects' repulsion.splitRule]")
+        ->type_name("normalCone|paper");
 }
 
 void ImageOverrides::applyTo(ImageSettings& image) const
