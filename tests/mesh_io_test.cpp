@@ -200,3 +200,33 @@ TEST_CASE("mesh io: valid files with random bytes changed load or are refused wi
         }
     }
 }
+
+TEST_CASE("mesh io: a header claiming more elements than the file can hold is refused before loading", "[mesh][io]")
+{
+    // A 309-byte OFF claiming 3.5 billion vertices grew vfield probe to 14.6 GB;
+    // a 332-byte ASCII PLY claiming 2^32 - 1 asked for 48 GB.
+    const std::string dir = test::scratchDir("claimed-counts");
+    requireRejected(writeFile(dir, "huge.off", "OFF\n# a comment\n3535352358 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+                    "the header claims 3535352358 vertices");
+    requireRejected(writeFile(dir, "huge.ply",
+                              "ply\nformat ascii 1.0\nelement vertex 4294967295\nproperty float x\nproperty float y\n"
+                              "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                              "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+                    "the header claims 4294967295 vertex elements");
+    requireRejected(writeFile(dir, "faces.ply",
+                              "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                              "property float z\nelement face 4000000000\nproperty list uchar int vertex_indices\n"
+                              "end_header\n" +
+                                  std::string(100, '\0')),
+                    "the header claims 4000000000 face elements");
+    std::string stl(80, 'x');
+    const uint32_t claimed = 4000000000u;
+    stl.append(reinterpret_cast<const char*>(&claimed), 4);
+    stl.append(50, '\0');
+    requireRejected(writeFile(dir, "huge.stl", stl), "the header claims 4000000000 triangles");
+
+    // Honest headers still load.
+    CHECK(loadMesh(writeFile(dir, "ok.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")).triangleCount() == 1);
+    CHECK(loadMesh(test::dataPath("tetra.ply")).triangleCount() == 4);
+    CHECK(loadMesh(test::dataPath("tetra.stl")).triangleCount() == 4);
+}

@@ -10,9 +10,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
+#include <sstream>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -27,9 +31,34 @@ std::string lowerExtension(const std::string& path)
     return ext;
 }
 
+/// A header's claimed element count against what the rest of the file can
+/// hold at minBytesEach bytes an element: a tiny file claiming billions would
+/// make the loader reserve memory for them all.
+void checkClaimedCount(const std::string& path, const std::string& what, uint64_t claimed, uint64_t minBytesEach,
+                       uint64_t bodyBytes)
+{
+    if (minBytesEach == 0 || claimed <= bodyBytes / minBytesEach) return;
+    throw FileError(path, "the header claims " + std::to_string(claimed) + " " + what + ", more than the file's " +
+                              std::to_string(bodyBytes) + " bytes after its header can hold (at least " +
+                              std::to_string(minBytesEach) + " bytes each)");
+}
+
+/// Bytes of a PLY scalar type; 0 for an unknown name.
+uint64_t plyTypeBytes(const std::string& type)
+{
+    if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
+    if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
+    if (type == "int" || type == "uint" || type == "float" || type == "int32" || type == "uint32" || type == "float32") return 4;
+    if (type == "double" || type == "float64") return 8;
+    return 0;
+}
+
 /// assimp 5.2 loops forever on some malformed PLY headers (one that never
 /// ends, an 'end_header' not followed by a line break, ...): check the header
-/// against the PLY grammar before handing the file over.
+/// against the PLY grammar before handing the file over, and each element's
+/// count against the bytes after the header (an ASCII value takes at least
+/// 2 bytes with its separator, a binary one its type's size; a list at least
+/// its count).
 void checkPlyHeader(const std::string& path)
 {
     constexpr std::size_t kMaxHeaderBytes = 64 * 1024;
@@ -38,6 +67,12 @@ void checkPlyHeader(const std::string& path)
     in.read(head.data(), static_cast<std::streamsize>(head.size()));
     head.resize(static_cast<std::size_t>(in.gcount()));
 
+    struct Element {
+        std::string name;
+        uint64_t count = 0, minBytes = 0;
+    };
+    std::vector<Element> elements;
+    bool ascii = false;
     std::size_t begin = 0;
     for (int number = 1;; ++number) {
         const std::size_t end = head.find('\n', begin);
@@ -52,12 +87,67 @@ void checkPlyHeader(const std::string& path)
         } else if (number == 2) {
             if (line != "format ascii 1.0" && line != "format binary_little_endian 1.0" && line != "format binary_big_endian 1.0")
                 throw FileError(path, where + "expected 'format ascii|binary_little_endian|binary_big_endian 1.0'");
+            ascii = line == "format ascii 1.0";
         } else if (line == "end_header") {
+            const uint64_t body = fs::file_size(path) - begin;
+            for (const Element& e : elements) checkClaimedCount(path, e.name + " elements", e.count, e.minBytes, body);
             return;
+        } else if (keyword == "element") {
+            std::istringstream words(line.substr(8));
+            Element e;
+            if (!(words >> e.name >> e.count)) throw FileError(path, where + "expected 'element NAME COUNT'");
+            elements.push_back(e);
+        } else if (keyword == "property" && !elements.empty()) {
+            std::istringstream words(line.substr(9));
+            std::string type, countType;
+            words >> type;
+            if (type == "list") words >> countType;
+            const uint64_t bytes = plyTypeBytes(type == "list" ? countType : type);
+            elements.back().minBytes += ascii ? 2 : bytes;
         } else if (keyword != "comment" && keyword != "obj_info" && keyword != "element" && keyword != "property") {
             throw FileError(path, where + "unexpected '" + keyword.substr(0, 32) + "'");
         }
     }
+}
+
+/// OFF: "OFF" (or a variant such as COFF), then vertex, face and edge counts.
+/// A vertex takes at least 6 bytes ("0 0 0\n"), a face at least 2.
+void checkOffHeader(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    std::string head(4096, '\0');
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    head.resize(static_cast<std::size_t>(in.gcount()));
+    std::istringstream words(head);
+    std::string keyword;
+    words >> keyword;
+    if (keyword.size() < 3 || keyword.compare(keyword.size() - 3, 3, "OFF") != 0) return; // assimp says what it is
+    // Comment lines may stand between the keyword and the counts.
+    std::string token;
+    while (words >> token && token[0] == '#') words.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+    uint64_t vertices = 0, faces = 0;
+    std::istringstream counts(token);
+    if (!(counts >> vertices) || !(words >> faces)) return;
+    const uint64_t body = fs::file_size(path) - std::min<uint64_t>(fs::file_size(path), uint64_t(words.tellg()));
+    checkClaimedCount(path, "vertices", vertices, 6, body);
+    checkClaimedCount(path, "faces", faces, 2, body);
+    checkClaimedCount(path, "vertices and faces", vertices + faces / 3, 6, body);
+}
+
+/// Binary STL: an 80-byte header, a triangle count, 50 bytes a triangle. A
+/// file that starts with "solid" and is not that size is ASCII STL.
+void checkBinaryStlHeader(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    char header[84] = {};
+    in.read(header, sizeof header);
+    if (in.gcount() < 84) return; // too short for binary: assimp reads it as ASCII or refuses it
+    uint32_t triangles = 0;
+    std::memcpy(&triangles, header + 80, 4); // little-endian, as the format and this machine are
+    const uint64_t size = fs::file_size(path);
+    if (size == 84 + 50 * uint64_t(triangles)) return;
+    if (std::string(header, 5) == "solid") return;
+    checkClaimedCount(path, "triangles", triangles, 50, size - 84);
 }
 
 void checkReadableFile(const std::string& path)
@@ -133,7 +223,10 @@ std::vector<std::string> MeshLoadReport::lines(const std::string& path) const
 TriangleMesh loadMesh(const std::string& path, MeshLoadReport* reportOut)
 {
     checkReadableFile(path);
-    if (lowerExtension(path) == ".ply") checkPlyHeader(path);
+    const std::string extension = lowerExtension(path);
+    if (extension == ".ply") checkPlyHeader(path);
+    else if (extension == ".off") checkOffHeader(path);
+    else if (extension == ".stl") checkBinaryStlHeader(path);
 
     Assimp::Importer importer;
     // Only positions matter: dropping normals, UVs and colours lets assimp keep
