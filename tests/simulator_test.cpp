@@ -77,7 +77,7 @@ TEST_CASE("simulator: a particle reaches terminal velocity g over drag", "[sim]"
     CHECK(sim.particles().velocity[0][1] == Approx(-9.81 / 2.0).epsilon(1e-4));
 }
 
-TEST_CASE("simulator: substeps keep each move within cfl of the finest cell", "[sim]")
+TEST_CASE("simulator: substeps keep each move within cfl of the cell around the particle", "[sim]")
 {
     // No fields: the step bound is cfl x 1 world unit; a particle at 100 units/s
     // moving 100/24 units a frame takes ceil(4.17 / 0.5) = 9 substeps.
@@ -88,6 +88,41 @@ TEST_CASE("simulator: substeps keep each move within cfl of the finest cell", "[
     sim.advanceFrame();
     CHECK(sim.lastStep().maxSubsteps == 9);
     CHECK(onlyParticle(sim)[0] == Approx(100.0 / 24.0));
+}
+
+TEST_CASE("simulator: a fine field far from the cloud leaves its substeps as they were", "[sim]")
+{
+    // The substep bound once took the finest leaf of any field in the scene:
+    // the shipped airplane, parked far above the terrain, more than doubled
+    // every particle's substeps (1.24 -> 2.71 a frame). Now each particle
+    // counts the cells of the fields around it.
+    const auto meanSubsteps = [](const Scene& scene) {
+        Simulator sim(scene.simulation);
+        uint64_t substeps = 0, particleFrames = 0;
+        for (int frame = 0; frame < 40; ++frame) {
+            sim.advanceFrame();
+            substeps += sim.lastStep().substeps;
+            particleFrames += sim.particles().size();
+        }
+        return double(substeps) / double(particleFrames);
+    };
+    Scene alone = test::showcaseAtTestResolution("cloud_over_terrain.json", 2000, 41);
+    Scene withAirplane = alone;
+    ObjectSpec airplane;
+    airplane.name = "parked airplane";
+    airplane.mesh.kind = MeshSource::Kind::File;
+    airplane.mesh.path = std::string(VFIELD_SCENES_DIR) + "/meshes/airplane.obj";
+    airplane.transform.translation = Vec3d(60, 70, 80);
+    airplane.transform.scale = 0.7;
+    airplane.repulsion = OctreeFieldOptions{};
+    airplane.repulsion->margin = 3.0;
+    airplane.repulsion->maxLevel = 5;
+    withAirplane.simulation.objects.push_back(airplane);
+
+    const double without = meanSubsteps(alone), with = meanSubsteps(withAirplane);
+    INFO("substeps per particle and frame: " << without << " alone, " << with << " with the airplane");
+    CHECK(Simulator(withAirplane.simulation).finestCellSize() < 0.5 * Simulator(alone.simulation).finestCellSize());
+    CHECK(with == Approx(without).epsilon(0.02));
 }
 
 TEST_CASE("simulator: a uniform field acts only inside its box and fades across its soft edge", "[sim]")

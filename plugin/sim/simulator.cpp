@@ -249,12 +249,60 @@ void Simulator::advanceDynamicObjects(double t0, double t1)
     mLastStep.dynamicSubsteps = substeps;
 }
 
+void Simulator::measureFieldSpeeds(double t0, double t1)
+{
+    mFieldFrameTime = t1 - t0;
+    mFieldSpeed.assign(mRepulsive.size(), 0.0);
+    if (!(t1 > t0)) return;
+    for (std::size_t k = 0; k < mRepulsive.size(); ++k) {
+        const std::size_t i = mRepulsive[k];
+        if (!mObjects[i].spec->isDynamic) continue;
+        // The farthest any corner of the root moves over the frame bounds every point's motion.
+        const Transform& a = mStatesAtFrameStart[i].pose;
+        const Transform& b = mStates[i].pose;
+        const BBoxd& root = mObjects[i].field->bounds();
+        double travel = 0.0;
+        for (int corner = 0; corner < 8; ++corner) {
+            const Vec3d c(corner & 1 ? root.max()[0] : root.min()[0], corner & 2 ? root.max()[1] : root.min()[1],
+                          corner & 4 ? root.max()[2] : root.min()[2]);
+            travel = std::max(travel, (b.worldFromObject(c) - a.worldFromObject(c)).length());
+        }
+        mFieldSpeed[k] = travel / (t1 - t0);
+    }
+}
+
+Simulator::LocalBound Simulator::localBound(const Vec3d& p, double time) const
+{
+    LocalBound bound;
+    bool inAnyField = false;
+    double cell = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < mRepulsive.size(); ++k) {
+        const std::size_t i = mRepulsive[k];
+        const SimObject& object = mObjects[i];
+        const Transform pose = object.spec->isDynamic ? poseAt(i, time) : mStates[i].pose;
+        const Vec3d local = pose.objectFromWorld(p);
+        const OctreeField& field = *object.field;
+        // A moving field reaches whatever its root sweeps over during the frame.
+        const double sweep = k < mFieldSpeed.size() ? mFieldSpeed[k] * mFieldFrameTime / pose.scale : 0.0;
+        BBoxd reach = field.bounds();
+        reach.expand(sweep);
+        if (!reach.isInside(local)) continue;
+        inAnyField = true;
+        const int level = field.bounds().isInside(local) ? std::max(field.sample(local).level, 1) : field.depth();
+        cell = std::min(cell, field.cellSize(level) * pose.scale);
+        if (k < mFieldSpeed.size()) bound.fieldSpeed = std::max(bound.fieldSpeed, mFieldSpeed[k]);
+    }
+    if (inAnyField) bound.cell = cell;
+    return bound;
+}
+
 void Simulator::advanceParticles(double t0, double t1)
 {
     const std::size_t n = mParticles.size();
     std::vector<uint8_t> alive(n, 1);
     std::vector<uint32_t> substepsOf(n, 0);
-    const double reach = mSetup.options.cfl * mFinestCell;
+    const double cfl = mSetup.options.cfl;
+    measureFieldSpeeds(t0, t1);
 
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& range) {
         std::vector<openvdb::Vec3SGrid::ConstAccessor> accessors;
@@ -268,7 +316,15 @@ void Simulator::advanceParticles(double t0, double t1)
                 Vec3d a(0.0);
                 for (const UniformFieldSpec& field : mSetup.fields) a += field.accelerationAt(x);
                 a += repulsion(x, t, accessors.data()) / cloud.mass;
-                double dt = std::min(t1 - t, stepLimit(v.length(), a.length(), reach));
+                // Each move stays within cfl of the cells around the particle,
+                // counting the motion of fields sweeping over it; where the
+                // step would end in finer cells, those bound it too.
+                const LocalBound here = localBound(x, t);
+                double dt = std::min(t1 - t, stepLimit(v.length() + here.fieldSpeed, a.length(), cfl * here.cell));
+                const LocalBound there = localBound(x + v * dt, t + dt);
+                if (there.cell < here.cell || there.fieldSpeed > here.fieldSpeed)
+                    dt = std::min(dt, stepLimit(v.length() + std::max(here.fieldSpeed, there.fieldSpeed), a.length(),
+                                                cfl * std::min(here.cell, there.cell)));
                 dt = std::max(dt, 1e-9 * (t1 - t0));
                 integrateWithDrag(x, v, a, cloud.drag, dt);
                 t = (t1 - t <= dt) ? t1 : t + dt;

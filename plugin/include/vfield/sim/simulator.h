@@ -72,8 +72,20 @@ public:
     const BBoxd& domain() const { return mDomain; }
     /// What loading the mesh files found and repaired, a line each naming the file.
     std::vector<std::string> meshReports() const;
-    /// The finest leaf size over all fields, world units: what cfl scales.
+    /// The finest leaf size over all fields, world units: what cfl scales for
+    /// the dynamic objects' shared substeps (particles use the cells around them).
     double finestCellSize() const { return mFinestCell; }
+
+    /// What bounds a particle's substep at p: the size of the smallest field
+    /// cell there (world units; 1 where no field reaches), and the speed of
+    /// the fastest field moving over p this frame (a dynamic object's
+    /// translation plus its rotation at its root's corners; its root counts
+    /// grown by its travel in the frame, since it sweeps that far).
+    struct LocalBound {
+        double cell = 1.0;
+        double fieldSpeed = 0.0;
+    };
+    LocalBound localBound(const Vec3d& p, double time) const;
 
     /// The static objects' forces summed into one world-space grid.
     openvdb::Vec3SGrid::Ptr staticForceGrid() const;
@@ -88,6 +100,8 @@ private:
     void advanceDynamicObjects(double t0, double t1);
     void advanceParticles(double t0, double t1);
     Transform poseAt(std::size_t object, double time) const;
+    /// Per repulsive object (mRepulsive order): how fast its field moves this frame, world units / s.
+    void measureFieldSpeeds(double t0, double t1);
 
     SimulationSetup mSetup;
     std::vector<SimObject> mObjects;
@@ -96,6 +110,8 @@ private:
     ParticleSet mParticles;
     BBoxd mDomain;
     double mFinestCell = 0.0;
+    std::vector<double> mFieldSpeed; ///< per repulsive object this frame (measureFieldSpeeds)
+    double mFieldFrameTime = 0.0;    ///< the frame's length, for the swept roots
     int mFrame = 0;
     uint64_t mRemovedTotal = 0;
     StepStats mLastStep;
