@@ -1,4 +1,4 @@
-// The clearance probe: signed distances to the scene's static meshes.
+// The clearance probe: signed distances to the scene's meshes, point to mesh and mesh to mesh.
 
 #include "sim_test_scenes.h"
 
@@ -30,4 +30,47 @@ TEST_CASE("clearance: points just below the terrain count as inside", "[sim]")
                 .unitSafe();
         CHECK(probe.distance({xz[0], h + 3.0, xz[1]}) == Approx(3.0 * normal[1]).margin(0.5));
     }
+}
+
+namespace {
+
+/// A static blade and a dynamic object at rest (no fields, no motion): what
+/// the probe measures between their meshes.
+std::vector<PairClearance> measureBladeAndPlate(const std::string& bladeBox, const std::string& plateBox)
+{
+    const std::string text = R"({"version": 1, "frames": {"start": 1, "end": 2, "fps": 24},
+      "objects": [{"name": "blade", "mesh": {"box": )" +
+                             bladeBox + R"(}, "repulsion": false},
+                  {"name": "plate", "mesh": {"box": )" +
+                             plateBox + R"(}, "motion": "dynamic", "repulsion": false}]})";
+    const Simulator sim(parseScene(text, "blade.json").simulation);
+    return ClearanceProbe(sim).measureObjects();
+}
+
+} // namespace
+
+TEST_CASE("clearance: a ridge through the middle of a plate counts, though no vertex touches it", "[sim]")
+{
+    // The plate's eight vertices lie 4 units from the blade; the blade cuts
+    // through its middle.
+    const std::vector<PairClearance> pairs =
+        measureBladeAndPlate(R"({"min": [-0.1, -3, -5], "max": [0.1, 3, 5]})", R"({"min": [-4, -0.2, -4], "max": [4, 0.2, 4]})");
+    REQUIRE(pairs.size() == 1);
+    CHECK(pairs[0].first == "plate");
+    CHECK(pairs[0].second == "blade");
+    CHECK(pairs[0].minimum < 0.0);
+}
+
+TEST_CASE("clearance: two boxes a known distance apart measure that distance, mesh to mesh", "[sim]")
+{
+    // Faces 0.12 apart across x (within the level sets' bands, 0.2 and 0.6
+    // here; farther reads as the band); the boxes overlap in y and z.
+    const std::vector<PairClearance> pairs =
+        measureBladeAndPlate(R"({"min": [-1, -1, -1], "max": [1, 1, 1]})", R"({"min": [1.12, -0.5, -3], "max": [3.12, 0.5, 3]})");
+    REQUIRE(pairs.size() == 1);
+    CHECK(pairs[0].minimum == Approx(0.12).margin(0.005));
+    // End-on: a long box whose small end face lies 0.07 from the cube.
+    const std::vector<PairClearance> turned = measureBladeAndPlate(R"({"min": [-1, -1, -1], "max": [1, 1, 1]})",
+                                                                   R"({"min": [1.07, -0.5, -0.5], "max": [7.07, 0.5, 0.5]})");
+    CHECK(turned[0].minimum == Approx(0.07).margin(0.005));
 }

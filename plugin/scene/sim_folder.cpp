@@ -53,6 +53,9 @@ ClearanceStats clearanceFromJson(const nlohmann::json& j)
 nlohmann::json toJson(const FrameRecord& r)
 {
     const bool any = r.alive > 0;
+    nlohmann::json pairs = nlohmann::json::array();
+    for (const PairClearance& pair : r.objectPairs)
+        pairs.push_back({{"objects", {pair.first, pair.second}}, {"min", pair.minimum}});
     return {{"frame", r.frame},
             {"centroid", any ? vec(r.centroid) : nlohmann::json(nullptr)},
             {"boundsMin", any ? vec(r.bounds.min()) : nlohmann::json(nullptr)},
@@ -62,7 +65,8 @@ nlohmann::json toJson(const FrameRecord& r)
             {"substeps", r.substeps},
             {"maxSubsteps", r.maxSubsteps},
             {"dynamicSubsteps", r.dynamicSubsteps},
-            {"clearance", {{"particles", toJson(r.particleClearance)}, {"dynamicVertices", toJson(r.dynamicClearance)}}}};
+            {"contacts", r.contacts},
+            {"clearance", {{"particles", toJson(r.particleClearance)}, {"objects", pairs}}}};
 }
 
 FrameRecord recordFromJson(const nlohmann::json& j)
@@ -74,12 +78,15 @@ FrameRecord recordFromJson(const nlohmann::json& j)
     r.substeps = j.at("substeps").get<uint64_t>();
     r.maxSubsteps = j.at("maxSubsteps").get<uint32_t>();
     r.dynamicSubsteps = j.at("dynamicSubsteps").get<uint32_t>();
+    r.contacts = j.at("contacts").get<uint64_t>();
     if (!j.at("centroid").is_null()) {
         r.centroid = vecFromJson(j.at("centroid"));
         r.bounds = BBoxd(vecFromJson(j.at("boundsMin")), vecFromJson(j.at("boundsMax")));
     }
     r.particleClearance = clearanceFromJson(j.at("clearance").at("particles"));
-    r.dynamicClearance = clearanceFromJson(j.at("clearance").at("dynamicVertices"));
+    for (const nlohmann::json& pair : j.at("clearance").at("objects"))
+        r.objectPairs.push_back({pair.at("objects").at(0).get<std::string>(), pair.at("objects").at(1).get<std::string>(),
+                                 pair.at("min").get<double>()});
     return r;
 }
 
@@ -258,7 +265,7 @@ void add(ContentHash& h, const UniformFieldSpec& f)
 
 // --- state.bin ----------------------------------------------------------------
 
-constexpr const char* kRunStateHeader = "vfield-run 3";
+constexpr const char* kRunStateHeader = "vfield-run 4";
 
 } // namespace
 

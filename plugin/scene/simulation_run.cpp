@@ -90,19 +90,15 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
         record.substeps = simulator.lastStep().substeps;
         record.maxSubsteps = simulator.lastStep().maxSubsteps;
         record.dynamicSubsteps = simulator.lastStep().dynamicSubsteps;
-        record.particleClearance = clearance.measureParticles(simulator.particles());
+        record.contacts = simulator.lastStep().contacts;
+        record.particleClearance = clearance.measureParticles();
+        record.objectPairs = clearance.measureObjects();
         for (const Vec3f& p : simulator.particles().position) {
             record.centroid += Vec3d(p);
             record.bounds.expand(Vec3d(p));
         }
         if (record.alive > 0) record.centroid /= double(record.alive);
-        std::vector<Vec3d> vertices;
-        for (const std::size_t i : dynamic) {
-            const std::vector<Vec3d> v = ClearanceProbe::vertices(simulator.objects()[i], simulator.objectStates()[i].pose);
-            vertices.insert(vertices.end(), v.begin(), v.end());
-            run.tracks.add(simulator.objects()[i].spec->name, frame, simulator.objectStates()[i]);
-        }
-        record.dynamicClearance = clearance.measure(vertices);
+        for (const std::size_t i : dynamic) run.tracks.add(simulator.objects()[i].spec->name, frame, simulator.objectStates()[i]);
         run.records.push_back(record);
 
         if (frame >= writeFirst)
@@ -128,7 +124,14 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
     summary.frames = run.records;
     for (const FrameRecord& r : summary.frames) {
         accumulate(summary.worstParticles, r.particleClearance);
-        accumulate(summary.worstDynamic, r.dynamicClearance);
+        summary.contacts += r.contacts;
+        for (const PairClearance& pair : r.objectPairs) {
+            if (pair.minimum < 0.0) ++summary.overlappingPairFrames;
+            auto closest = std::find_if(summary.closestPairs.begin(), summary.closestPairs.end(),
+                                        [&](const PairClearance& c) { return c.first == pair.first && c.second == pair.second; });
+            if (closest == summary.closestPairs.end()) summary.closestPairs.push_back(pair);
+            else closest->minimum = std::min(closest->minimum, pair.minimum);
+        }
     }
     return summary;
 }

@@ -114,8 +114,15 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
             voxelize.withLevel = voxelize.withSurface = false;
             object.forceGrid = voxelizeField(*object.field, voxelize).force;
         }
-        if (object.spec->isDynamic)
+        if (object.spec->isDynamic) {
             for (std::size_t t = 0; t < object.mesh.triangleCount(); ++t) object.centroids.push_back(object.mesh.centroid(t));
+            if (analyzeTopology(object.mesh).isClosed()) {
+                const BBoxd box = object.mesh.bounds();
+                const double extent = box.extents()[box.maxExtent()];
+                const double band = object.field ? 0.5 * (object.field->rootSide() - extent) : 0.1 * extent;
+                object.distance = std::make_shared<MeshDistance>(object.mesh, extent / 128.0, band, 0.5 * extent);
+            }
+        }
     });
 
     mStates.resize(mObjects.size());
@@ -127,6 +134,7 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
         mStates[i].velocity = object.spec->isDynamic ? object.spec->velocity : Vec3d(0.0);
         if (object.spec->isDynamic)
             mStates[i].pose.rotation = orientationFor(mStates[i].velocity, Vec3d(0.0), false, mStates[i].pose.rotation);
+        if (object.distance) mContact.push_back(i);
         if (!object.field) continue;
         mRepulsive.push_back(i);
         const double scale = object.spec->transform.scale;
@@ -296,17 +304,59 @@ Simulator::LocalBound Simulator::localBound(const Vec3d& p, double time) const
     return bound;
 }
 
+bool Simulator::resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t, double dt,
+                                std::vector<MeshDistance::Accessor>& accessors) const
+{
+    bool touched = false;
+    for (std::size_t k = 0; k < mContact.size(); ++k) {
+        const std::size_t i = mContact[k];
+        const MeshDistance& distance = *mObjects[i].distance;
+        const Transform before = poseAt(i, t), after = poseAt(i, t + dt);
+        // The substep's path as the object sees it, sampled a voxel apart.
+        const Vec3d a = before.objectFromWorld(from), b = after.objectFromWorld(x);
+        BBoxd path(a, a);
+        path.expand(b);
+        if (!path.hasOverlap(distance.reach())) continue;
+        const double skin = distance.voxelSize();
+        const int samples = std::max(1, int(std::ceil((b - a).length() / skin)));
+        int hit = -1;
+        for (int s = 0; s <= samples && hit < 0; ++s)
+            if (distance.distance(accessors[k], a + (b - a) * (double(s) / samples)) < 0.5 * skin) hit = s;
+        if (hit < 0) continue;
+        // Stop where the path reached the surface; a particle that began on
+        // or in it (rounding, or a rotation sweeping over it) is pushed out
+        // along the gradient.
+        Vec3d local = a + (b - a) * (double(std::max(hit - 1, 0)) / samples);
+        for (int iteration = 0; iteration < 8; ++iteration) {
+            const double d = distance.distance(accessors[k], local);
+            if (d >= 0.5 * skin) break;
+            const Vec3d normal = distance.gradient(accessors[k], local);
+            if (normal.lengthSqr() < 1e-12) break;
+            local += normal.unitSafe() * (skin - d);
+        }
+        x = after.worldFromObject(local);
+        const Vec3d normal = after.rotateToWorld(distance.gradient(accessors[k], local)).unitSafe();
+        const Vec3d surfaceVelocity = (x - before.worldFromObject(local)) / dt;
+        const double approach = (v - surfaceVelocity).dot(normal);
+        if (approach < 0.0) v -= normal * approach;
+        touched = true;
+    }
+    return touched;
+}
+
 void Simulator::advanceParticles(double t0, double t1)
 {
     const std::size_t n = mParticles.size();
     std::vector<uint8_t> alive(n, 1);
-    std::vector<uint32_t> substepsOf(n, 0);
+    std::vector<uint32_t> substepsOf(n, 0), contactsOf(n, 0);
     const double cfl = mSetup.options.cfl;
     measureFieldSpeeds(t0, t1);
 
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& range) {
         std::vector<openvdb::Vec3SGrid::ConstAccessor> accessors;
         for (const std::size_t i : mRepulsive) accessors.push_back(mObjects[i].forceGrid->getConstAccessor());
+        std::vector<MeshDistance::Accessor> distances;
+        for (const std::size_t i : mContact) distances.push_back(mObjects[i].distance->accessor());
         for (std::size_t p = range.begin(); p != range.end(); ++p) {
             const CloudSpec& cloud = mSetup.clouds[mParticles.cloud[p]];
             Vec3d x(mParticles.position[p]), v(mParticles.velocity[p]);
@@ -326,7 +376,9 @@ void Simulator::advanceParticles(double t0, double t1)
                     dt = std::min(dt, stepLimit(v.length() + std::max(here.fieldSpeed, there.fieldSpeed), a.length(),
                                                 cfl * std::min(here.cell, there.cell)));
                 dt = std::max(dt, 1e-9 * (t1 - t0));
+                const Vec3d from = x;
                 integrateWithDrag(x, v, a, cloud.drag, dt);
+                if (!mContact.empty() && resolveContacts(from, x, v, t, dt, distances)) ++contactsOf[p];
                 t = (t1 - t <= dt) ? t1 : t + dt;
                 ++steps;
                 if (!mDomain.isInside(x)) {
@@ -343,6 +395,7 @@ void Simulator::advanceParticles(double t0, double t1)
     for (std::size_t p = 0; p < n; ++p) {
         mLastStep.substeps += substepsOf[p];
         mLastStep.maxSubsteps = std::max(mLastStep.maxSubsteps, substepsOf[p]);
+        mLastStep.contacts += contactsOf[p];
         if (!alive[p]) ++mLastStep.removed;
     }
     mRemovedTotal += mLastStep.removed;

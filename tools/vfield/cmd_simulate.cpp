@@ -61,7 +61,16 @@ Runner registerSimulate(CLI::App& app, const GlobalOptions& global)
             log(global, o->output + " held a simulation of an earlier edit of the scene or its meshes: simulated afresh");
         if (summary.resumedAfterFrame >= 0) log(global, "resumed after frame " + std::to_string(summary.resumedAfterFrame));
         log(global, "clearance of particles: " + describe(summary.worstParticles));
-        log(global, "clearance of dynamic objects' vertices: " + describe(summary.worstDynamic));
+        for (const PairClearance& pair : summary.closestPairs) {
+            char text[64];
+            std::snprintf(text, sizeof text, "%.4g", pair.minimum);
+            log(global, "clearance of " + pair.first + " and " + pair.second + ", mesh to mesh: min " + text +
+                            (pair.minimum < 0.0 ? " (they overlap)" : ""));
+        }
+        if (summary.contacts > 0)
+            log(global,
+                std::to_string(summary.contacts) +
+                    " particle substeps ended on a dynamic object's surface (contacts: its field alone did not turn them away)");
     };
 }
 

@@ -53,11 +53,12 @@ private:
 /// One frame's line of stats.json.
 struct FrameRecord {
     int frame = 0;
-    uint64_t alive = 0, removed = 0, substeps = 0;
+    uint64_t alive = 0, removed = 0, substeps = 0, contacts = 0;
     uint32_t maxSubsteps = 0, dynamicSubsteps = 0;
-    ClearanceStats particleClearance, dynamicClearance;
-    Vec3d centroid{0.0}; ///< mean particle position, world units
-    BBoxd bounds;        ///< box of the particles (empty without particles)
+    ClearanceStats particleClearance;       ///< the particles against every object
+    std::vector<PairClearance> objectPairs; ///< every dynamic object against every other object
+    Vec3d centroid{0.0};                    ///< mean particle position, world units
+    BBoxd bounds;                           ///< box of the particles (empty without particles)
 };
 
 /// What a resumed run needs: the simulator's state after the last complete

@@ -35,11 +35,15 @@ struct SimulateOptions {
 };
 
 struct SimulateSummary {
-    std::vector<FrameRecord> frames;             ///< every frame simulated so far, resumed ones included
-    int resumedAfterFrame = -1;                  ///< the frame a saved state was resumed after, or -1
-    bool restartedStale = false;                 ///< the folder held a run of an earlier edit of the scene
-    std::vector<std::string> warnings;           ///< e.g. open meshes whose inside is undefined
-    ClearanceStats worstParticles, worstDynamic; ///< minima over all frames, penetrations summed
+    std::vector<FrameRecord> frames;   ///< every frame simulated so far, resumed ones included
+    int resumedAfterFrame = -1;        ///< the frame a saved state was resumed after, or -1
+    bool restartedStale = false;       ///< the folder held a run of an earlier edit of the scene
+    std::vector<std::string> warnings; ///< e.g. open meshes whose inside is undefined
+    ClearanceStats worstParticles;     ///< the particles' minima over all frames, penetrations summed
+    /// Each pair of objects measured (a dynamic one first) at its closest over all frames.
+    std::vector<PairClearance> closestPairs;
+    uint64_t overlappingPairFrames = 0; ///< (pair, frame)s whose meshes overlapped
+    uint64_t contacts = 0;              ///< particle contacts with dynamic objects, all frames (StepStats)
 };
 
 SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, const SimulateOptions& options = {});

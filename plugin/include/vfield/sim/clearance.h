@@ -1,14 +1,14 @@
 #pragma once
 /// @file clearance.h
 /// Measured truth about collisions: signed distances (world units, negative
-/// inside) from points to every static object's mesh, from OpenVDB level sets
-/// (tools::meshToSignedDistanceField, meshToLevelSet with an asymmetric band). Used per frame on particles and on dynamic
-/// objects' vertices; penetrations are counted, never hidden.
+/// inside) to every object's mesh, from OpenVDB level sets (MeshDistance).
+/// Per frame: the particles against every object (static ones and dynamic
+/// ones where they are), and every dynamic object's mesh against every other
+/// object's, surface against surface. Penetrations are counted, never hidden.
 
 #include <vfield/sim/simulator.h>
 
-#include <openvdb/openvdb.h>
-
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -21,31 +21,47 @@ struct ClearanceStats {
     uint64_t samples = 0;      ///< points measured (0: nothing to measure)
 };
 
+/// The clearance between two objects' meshes at one moment.
+struct PairClearance {
+    std::string first, second; ///< object names; first is dynamic
+    /// Smallest signed distance between the two surfaces, world units:
+    /// negative where they overlap. Exact to within the finer level set's
+    /// voxel; beyond the level sets' bands it reads as the band's width.
+    double minimum = 0.0;
+};
+
 class ClearanceProbe {
 public:
-    /// Builds a level set per static object: voxel size half its field's
-    /// finest leaf (or 1/256 of its size without a field), a band reaching 10%
-    /// of its field's root side outside (beyond it distances read as the band's
-    /// width) and 3 voxels inside. Open meshes, whose inside is undefined, are
-    /// measured but reported in warnings().
+    /// Builds a level set per static object with a closed mesh: voxel size
+    /// half its field's finest leaf (or 1/256 of its size without a field), a
+    /// band reaching 10% of its field's root side outside (beyond it distances
+    /// read as the band's width) and 3 voxels inside. Dynamic objects bring
+    /// their own (SimObject::distance). Open meshes, whose inside is
+    /// undefined, are measured but reported in warnings(). Reads the
+    /// simulator's poses when measuring: keep it alive.
     explicit ClearanceProbe(const Simulator& simulator);
 
-    /// Signed distance from a world point to the nearest static mesh.
+    /// Signed distance from a world point to the nearest mesh, as now placed.
     double distance(const Vec3d& world) const;
     ClearanceStats measure(const std::vector<Vec3d>& worldPoints) const;
-    ClearanceStats measureParticles(const ParticleSet& particles) const;
-    /// The world positions of a dynamic object's vertices at its current pose.
-    static std::vector<Vec3d> vertices(const SimObject& object, const Transform& pose);
+    ClearanceStats measureParticles() const;
+    /// Every dynamic object against every other object, mesh to mesh: the
+    /// first's triangles, sampled a voxel apart, in the second's level set,
+    /// and the second's triangles near it in the first's.
+    std::vector<PairClearance> measureObjects() const;
 
     const std::vector<std::string>& warnings() const { return mWarnings; }
-    bool empty() const { return mLevelSets.empty(); }
+    bool empty() const { return mSurfaces.empty(); }
 
 private:
-    struct LevelSet {
-        openvdb::FloatGrid::Ptr grid; ///< object space
-        Transform pose;
+    struct Surface {
+        std::size_t object;
+        std::shared_ptr<const MeshDistance> distance;
     };
-    std::vector<LevelSet> mLevelSets;
+    double surfaceToSurface(std::size_t from, const Surface& to) const;
+
+    const Simulator& mSimulator;
+    std::vector<Surface> mSurfaces;
     std::vector<std::string> mWarnings;
 };
 

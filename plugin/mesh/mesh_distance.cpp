@@ -1,0 +1,58 @@
+#include <vfield/mesh/mesh_distance.h>
+
+#include <openvdb/tools/Interpolation.h>
+#include <openvdb/tools/MeshToVolume.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace vfield {
+
+MeshDistance::MeshDistance(const TriangleMesh& mesh, double voxelSize, double exteriorBand, double interiorBand)
+    : mVoxelSize(voxelSize), mExteriorBand(exteriorBand)
+{
+    const auto transform = openvdb::math::Transform::createLinearTransform(voxelSize);
+    const std::vector<openvdb::Vec3I> triangles(mesh.triangles.begin(), mesh.triangles.end());
+    // Bands are in voxels; at least the three a trilinear lookup and a central difference need.
+    const float exterior = float(std::max(3.0, std::ceil(exteriorBand / voxelSize)));
+    const float interior = float(std::max(3.0, std::ceil(interiorBand / voxelSize)));
+    mGrid = openvdb::tools::meshToSignedDistanceField<openvdb::FloatGrid>(*transform, mesh.points, triangles, {},
+                                                                          exterior, interior);
+    mExteriorBand = exterior * voxelSize;
+    mReach = mesh.bounds();
+    mReach.expand(mExteriorBand);
+}
+
+double MeshDistance::distance(Accessor& accessor, const Vec3d& p) const
+{
+    float value;
+    openvdb::tools::BoxSampler::sample(accessor, p / mVoxelSize, value);
+    return value;
+}
+
+Vec3d MeshDistance::gradient(Accessor& accessor, const Vec3d& p) const
+{
+    Vec3d g;
+    for (int axis = 0; axis < 3; ++axis) {
+        Vec3d step(0.0);
+        step[axis] = 0.5 * mVoxelSize;
+        g[axis] = (distance(accessor, p + step) - distance(accessor, p - step)) / mVoxelSize;
+    }
+    return g;
+}
+
+std::vector<Vec3d> trianglePoints(const Vec3d& a, const Vec3d& b, const Vec3d& c, double spacing)
+{
+    const double longest = std::max({(b - a).length(), (c - b).length(), (a - c).length()});
+    const int n = std::max(1, int(std::ceil(longest / spacing)));
+    std::vector<Vec3d> points;
+    points.reserve(std::size_t((n + 1) * (n + 2) / 2));
+    for (int i = 0; i <= n; ++i)
+        for (int j = 0; i + j <= n; ++j) {
+            const double u = double(i) / n, v = double(j) / n;
+            points.push_back(a + (b - a) * u + (c - a) * v);
+        }
+    return points;
+}
+
+} // namespace vfield
