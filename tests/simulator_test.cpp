@@ -167,6 +167,36 @@ TEST_CASE("simulator: a dynamic object's nose follows its velocity", "[sim]")
     CHECK(pose.translation[2] == Approx(-10.0 / 24.0));
 }
 
+TEST_CASE("simulator: a dynamic object rolls at most at its rate, and turning counts in its substeps", "[sim]")
+{
+    // A sideways field would bank it by about 45 degrees at once; at 90
+    // degrees/s it has rolled 22.5 degrees after a quarter of a second. A long dart's tips sweep far as it turns, so it
+    // takes more substeps than a short one on the same course.
+    const auto dart = [](double halfLength) {
+        const std::string text = R"({"version": 1, "frames": {"start": 1, "end": 30, "fps": 24},
+          "fields": [{"acceleration": [0, 0, 9.81]}],
+          "objects": [{"name": "dart", "mesh": {"box": {"min": [-)" +
+                                 std::to_string(halfLength) + R"(, -0.2, -0.2],
+                       "max": [)" +
+                                 std::to_string(halfLength) + R"(, 0.2, 0.2]}}, "motion": "dynamic",
+                       "velocity": [10, 0, 0], "bank": true, "maxRollRate": 90, "repulsion": false}]})";
+        return parseScene(text, "dart.json");
+    };
+    const Scene shortDart = dart(1.0), longDart = dart(10.0);
+    Simulator a(shortDart.simulation), b(longDart.simulation);
+    double rollAtQuarterSecond = 0.0;
+    for (int frame = 2; frame <= 30; ++frame) {
+        a.advanceFrame();
+        b.advanceFrame();
+        INFO("frame " << frame);
+        CHECK(a.lastStep().maxRollChange <= 90.0 / 24.0 + 1e-9);
+        CHECK(b.lastStep().dynamicSubsteps > a.lastStep().dynamicSubsteps);
+        if (frame == 7) rollAtQuarterSecond = a.objectStates()[0].roll;
+    }
+    // Turning right (+z) banks it right: left wing up, a negative roll.
+    CHECK(rollAtQuarterSecond * 180.0 / 3.14159265358979 == Approx(-22.5).margin(1e-6));
+}
+
 TEST_CASE("showcase: the cloud squeezes through the pass and leaves without a penetration", "[sim][showcase]")
 {
     const Scene scene = test::showcaseAtTestResolution("cloud_over_terrain.json", 4000, 240);
@@ -197,6 +227,12 @@ TEST_CASE("showcase: the airplane flies the canyon without touching it", "[sim][
     REQUIRE(summary.closestPairs.size() == 1); // the airplane and the mountains, mesh to mesh
     CHECK(summary.overlappingPairFrames == 0);
     CHECK(summary.closestPairs[0].minimum > 0.3);
+    // Its roll turns at most at its rate (120 degrees/s in the scene): once it
+    // flipped by 108 degrees within a frame.
+    for (const FrameRecord& r : summary.frames) {
+        INFO("frame " << r.frame);
+        CHECK(r.maxRollChange <= 120.0 / 24.0 + 1e-9);
+    }
     // It flies the whole canyon, below its rims, and never stalls.
     std::ifstream in(dir + "/tracks.json");
     const nlohmann::json track = nlohmann::json::parse(in).at("objects").at("airplane");

@@ -16,8 +16,8 @@ MeshDistance::MeshDistance(const TriangleMesh& mesh, double voxelSize, double ex
     // Bands are in voxels; at least the three a trilinear lookup and a central difference need.
     const float exterior = float(std::max(3.0, std::ceil(exteriorBand / voxelSize)));
     const float interior = float(std::max(3.0, std::ceil(interiorBand / voxelSize)));
-    mGrid = openvdb::tools::meshToSignedDistanceField<openvdb::FloatGrid>(*transform, mesh.points, triangles, {},
-                                                                          exterior, interior);
+    mGrid =
+        openvdb::tools::meshToSignedDistanceField<openvdb::FloatGrid>(*transform, mesh.points, triangles, {}, exterior, interior);
     mExteriorBand = exterior * voxelSize;
     mReach = mesh.bounds();
     mReach.expand(mExteriorBand);

@@ -66,6 +66,7 @@ nlohmann::json toJson(const FrameRecord& r)
             {"maxSubsteps", r.maxSubsteps},
             {"dynamicSubsteps", r.dynamicSubsteps},
             {"contacts", r.contacts},
+            {"maxRollChangeDegrees", r.maxRollChange},
             {"clearance", {{"particles", toJson(r.particleClearance)}, {"objects", pairs}}}};
 }
 
@@ -79,6 +80,7 @@ FrameRecord recordFromJson(const nlohmann::json& j)
     r.maxSubsteps = j.at("maxSubsteps").get<uint32_t>();
     r.dynamicSubsteps = j.at("dynamicSubsteps").get<uint32_t>();
     r.contacts = j.at("contacts").get<uint64_t>();
+    r.maxRollChange = j.at("maxRollChangeDegrees").get<double>();
     if (!j.at("centroid").is_null()) {
         r.centroid = vecFromJson(j.at("centroid"));
         r.bounds = BBoxd(vecFromJson(j.at("boundsMin")), vecFromJson(j.at("boundsMax")));
@@ -240,6 +242,8 @@ void add(ContentHash& h, const ObjectSpec& o)
     add(h, o.drag);
     add(h, o.velocity);
     add(h, int64_t(o.bank));
+    add(h, o.maxRollRate);
+    add(h, o.maxPitchRate);
     add(h, o.repulsion);
 }
 

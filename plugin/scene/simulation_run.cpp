@@ -91,6 +91,7 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
         record.maxSubsteps = simulator.lastStep().maxSubsteps;
         record.dynamicSubsteps = simulator.lastStep().dynamicSubsteps;
         record.contacts = simulator.lastStep().contacts;
+        record.maxRollChange = simulator.lastStep().maxRollChange;
         record.particleClearance = clearance.measureParticles();
         record.objectPairs = clearance.measureObjects();
         for (const Vec3f& p : simulator.particles().position) {

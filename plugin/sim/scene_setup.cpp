@@ -39,6 +39,8 @@ void ObjectSpec::validate() const
     validatePart("transform", transform);
     requireNumber("mass", mass, 1e-9, 1e12);
     requireNumber("drag", drag, 0.0, 1e6);
+    requireNumber("maxRollRate", maxRollRate, 0.0, 1e5);
+    requireNumber("maxPitchRate", maxPitchRate, 0.0, 1e5);
     if (repulsion) validatePart("repulsion", *repulsion);
 }
 
@@ -128,8 +130,10 @@ ObjectSpec objectSpecFromJson(const JsonValue& json, const std::string& baseDir)
             spec.drag = o.number("drag", spec.drag);
             spec.velocity = o.vec3("velocity", spec.velocity);
             spec.bank = o.boolean("bank", spec.bank);
+            spec.maxRollRate = o.number("maxRollRate", spec.maxRollRate);
+            spec.maxPitchRate = o.number("maxPitchRate", spec.maxPitchRate);
         } else {
-            for (const char* key : {"mass", "drag", "velocity", "bank"})
+            for (const char* key : {"mass", "drag", "velocity", "bank", "maxRollRate", "maxPitchRate"})
                 if (o.has(key)) o.at(key).fail(std::string("\"") + key + "\" applies to dynamic objects only");
         }
     });

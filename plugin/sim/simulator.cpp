@@ -55,25 +55,34 @@ void integrateWithDrag(Vec3d& x, Vec3d& v, const Vec3d& a, double drag, double d
     x += v * dt;
 }
 
-/// Heading and pitch from the velocity (nose +x, up +y), and with bank a roll
-/// into the turn from the sideways acceleration.
-Quatd orientationFor(const Vec3d& velocity, const Vec3d& acceleration, bool bank, const Quatd& previous)
+/// Turns a dynamic object over a substep of dt (0: at once): heading at once
+/// to its velocity (nose +x, up +y), pitch towards the velocity's and, with
+/// bank, roll into the turn from the sideways acceleration, each at most at
+/// its rate. Roll follows the acceleration, which jumps tenfold at a field's
+/// surface leaves: unlimited, it flipped sign within a substep.
+void turn(DynamicState& state, const Vec3d& acceleration, const ObjectSpec& spec, double dt)
 {
+    const Vec3d& velocity = state.velocity;
     const double horizontal = std::hypot(velocity[0], velocity[2]);
-    if (velocity.length() < 1e-6) return previous;
+    if (velocity.length() < 1e-6) return;
     const double heading = std::atan2(-velocity[2], velocity[0]);
-    const double pitch = std::atan2(velocity[1], horizontal);
-    Quatd q = Quatd(Vec3d(0, 1, 0), heading) * Quatd(Vec3d(0, 0, 1), pitch);
-    if (bank && horizontal > 1e-6) {
+    double targetRoll = 0.0;
+    if (spec.bank && horizontal > 1e-6) {
         // Sideways acceleration to the left (up x forward) rolls the left wing
         // down: a negative turn about the nose (+x).
         const Vec3d forward(velocity[0] / horizontal, 0, velocity[2] / horizontal);
         const Vec3d left = Vec3d(0, 1, 0).cross(forward);
-        const double sideways = acceleration.dot(left);
-        const double roll = std::clamp(std::atan2(sideways, 9.81), -kPi / 3, kPi / 3);
-        q = q * Quatd(Vec3d(1, 0, 0), -roll);
+        targetRoll = std::clamp(std::atan2(acceleration.dot(left), 9.81), -kPi / 3, kPi / 3);
     }
-    return q.unit();
+    const auto approach = [dt](double from, double to, double degreesPerSecond) {
+        if (dt <= 0.0) return to;
+        const double most = degreesPerSecond * kPi / 180.0 * dt;
+        return from + std::clamp(to - from, -most, most);
+    };
+    state.pitch = approach(state.pitch, std::atan2(velocity[1], horizontal), spec.maxPitchRate);
+    state.roll = approach(state.roll, targetRoll, spec.maxRollRate);
+    state.pose.rotation =
+        (Quatd(Vec3d(0, 1, 0), heading) * Quatd(Vec3d(0, 0, 1), state.pitch) * Quatd(Vec3d(1, 0, 0), -state.roll)).unit();
 }
 
 Quatd slerp(const Quatd& a, Quatd b, double t)
@@ -116,6 +125,7 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
         }
         if (object.spec->isDynamic) {
             for (std::size_t t = 0; t < object.mesh.triangleCount(); ++t) object.centroids.push_back(object.mesh.centroid(t));
+            for (const Vec3f& p : object.mesh.points) object.radius = std::max(object.radius, double(p.length()));
             if (analyzeTopology(object.mesh).isClosed()) {
                 const BBoxd box = object.mesh.bounds();
                 const double extent = box.extents()[box.maxExtent()];
@@ -132,8 +142,7 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
         const SimObject& object = mObjects[i];
         mStates[i].pose = object.spec->transform;
         mStates[i].velocity = object.spec->isDynamic ? object.spec->velocity : Vec3d(0.0);
-        if (object.spec->isDynamic)
-            mStates[i].pose.rotation = orientationFor(mStates[i].velocity, Vec3d(0.0), false, mStates[i].pose.rotation);
+        if (object.spec->isDynamic) turn(mStates[i], Vec3d(0.0), *object.spec, 0.0);
         if (object.distance) mContact.push_back(i);
         if (!object.field) continue;
         mRepulsive.push_back(i);
@@ -218,6 +227,8 @@ void Simulator::advanceDynamicObjects(double t0, double t1)
     if (dynamic.empty()) return;
 
     const double reach = mSetup.options.cfl * mFinestCell;
+    std::vector<double> rollAtStart;
+    for (const std::size_t i : dynamic) rollAtStart.push_back(mStates[i].roll);
     double t = t0;
     uint32_t substeps = 0;
     while (t < t1) {
@@ -241,7 +252,12 @@ void Simulator::advanceDynamicObjects(double t0, double t1)
                 a += other.rotateToWorld(mObjects[j].field->hitTest(points)) / spec.mass;
             }
             acceleration[d] = a;
-            dt = std::min(dt, stepLimit(state.velocity.length(), a.length(), reach));
+            // Turning moves the far parts too: roll and pitch at most at their
+            // rates, heading as fast as the velocity turns (capped at a radian a frame).
+            const double speed = state.velocity.length();
+            const double turnRate = (spec.maxRollRate + spec.maxPitchRate) * kPi / 180.0 +
+                                    a.length() / std::max(speed, a.length() * (t1 - t0) + 1e-12);
+            dt = std::min(dt, stepLimit(speed + turnRate * mObjects[i].radius * state.pose.scale, a.length(), reach));
         }
         dt = std::max(dt, 1e-9 * (t1 - t0)); // progress even if a limit collapses
         for (std::size_t d = 0; d < dynamic.size(); ++d) {
@@ -249,12 +265,15 @@ void Simulator::advanceDynamicObjects(double t0, double t1)
             const ObjectSpec& spec = *mObjects[dynamic[d]].spec;
             const Vec3d netAcceleration = acceleration[d] - spec.drag * state.velocity;
             integrateWithDrag(state.pose.translation, state.velocity, acceleration[d], spec.drag, dt);
-            state.pose.rotation = orientationFor(state.velocity, netAcceleration, spec.bank, state.pose.rotation);
+            turn(state, netAcceleration, spec, dt);
         }
         t = (t1 - t <= dt) ? t1 : t + dt;
         ++substeps;
     }
     mLastStep.dynamicSubsteps = substeps;
+    for (std::size_t d = 0; d < dynamic.size(); ++d)
+        mLastStep.maxRollChange =
+            std::max(mLastStep.maxRollChange, std::abs(mStates[dynamic[d]].roll - rollAtStart[d]) * 180.0 / kPi);
 }
 
 void Simulator::measureFieldSpeeds(double t0, double t1)
@@ -501,6 +520,8 @@ std::string Simulator::serializeState() const
         put(out, s.pose.rotation);
         put(out, s.pose.scale);
         put(out, s.velocity);
+        put(out, s.roll);
+        put(out, s.pitch);
     }
     putVector(out, mParticles.position);
     putVector(out, mParticles.velocity);
@@ -523,6 +544,8 @@ void Simulator::restoreState(const std::string& bytes)
         s.pose.rotation = in.get<Quatd>();
         s.pose.scale = in.get<double>();
         s.velocity = in.get<Vec3d>();
+        s.roll = in.get<double>();
+        s.pitch = in.get<double>();
     }
     ParticleSet particles;
     in.getVector(particles.position);

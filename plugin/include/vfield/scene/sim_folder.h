@@ -55,6 +55,7 @@ struct FrameRecord {
     int frame = 0;
     uint64_t alive = 0, removed = 0, substeps = 0, contacts = 0;
     uint32_t maxSubsteps = 0, dynamicSubsteps = 0;
+    double maxRollChange = 0.0;             ///< degrees, the most any dynamic object rolled over the frame
     ClearanceStats particleClearance;       ///< the particles against every object
     std::vector<PairClearance> objectPairs; ///< every dynamic object against every other object
     Vec3d centroid{0.0};                    ///< mean particle position, world units

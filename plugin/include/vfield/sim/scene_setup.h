@@ -30,6 +30,8 @@ struct ObjectSpec {
     /// Dynamic only: the mesh's nose is +x and its up +y in object space; its
     /// heading and pitch follow the velocity, and with bank it rolls into turns.
     bool bank = false;
+    double maxRollRate = 90.0;  ///< dynamic only: degrees/s (0..1e5); per frame at most this / fps
+    double maxPitchRate = 60.0; ///< dynamic only: degrees/s (0..1e5)
     std::optional<OctreeFieldOptions> repulsion = OctreeFieldOptions{}; ///< none: no field around it
 
     /// Throws OptionError naming the first option out of range.

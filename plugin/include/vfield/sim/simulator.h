@@ -43,6 +43,7 @@ struct SimObject {
     std::shared_ptr<OctreeField> field; ///< null without repulsion
     openvdb::Vec3SGrid::Ptr forceGrid;  ///< the field voxelized in object space; null without repulsion
     std::vector<Vec3d> centroids;       ///< object space, for the hit test (dynamic objects)
+    double radius = 0.0;                ///< farthest vertex from the pivot, object units: how far rotation moves it
     MeshLoadReport loadReport;          ///< what loading a mesh file found and repaired
     /// Dynamic objects with a closed mesh: its signed distance (voxel 1/128 of
     /// its largest extent, out to its field's margin, the whole inside), where
@@ -54,6 +55,8 @@ struct SimObject {
 struct DynamicState {
     Transform pose;      ///< pivot = the mesh's object-space origin
     Vec3d velocity{0.0}; ///< world units / s
+    double roll = 0.0;   ///< radians about the nose; negative: left wing up (banking into a right turn)
+    double pitch = 0.0;  ///< radians, nose up
 };
 
 /// What one frame's step did.
@@ -61,6 +64,7 @@ struct StepStats {
     uint64_t substeps = 0;        ///< particle substeps taken, summed over particles
     uint32_t maxSubsteps = 0;     ///< most substeps any particle took
     uint32_t dynamicSubsteps = 0; ///< substeps of the dynamic objects
+    double maxRollChange = 0.0;   ///< the most any dynamic object rolled this frame, degrees
     uint64_t removed = 0;         ///< particles that left the domain this frame
     uint64_t contacts = 0;        ///< particle substeps that ended on a dynamic object's surface (see Simulator)
 };
