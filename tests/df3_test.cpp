@@ -48,8 +48,10 @@ TEST_CASE("df3: an export reads back as the grid within 16-bit quantization", "[
     REQUIRE(volume.ny == 15);
     REQUIRE(volume.nz == 15);
     CHECK(placement.cellSize == 0.5);
-    CHECK(placement.worldBounds.min().eq(Vec3d(3.0 - 7.5 * 0.5, 4.0 - 7.5 * 0.5, -2.0 - 7.5 * 0.5)));
-    CHECK(placement.worldBounds.max().eq(Vec3d(3.0 + 7.5 * 0.5, 4.0 + 7.5 * 0.5, -2.0 + 7.5 * 0.5)));
+    // POV-Ray puts sample i at i/n of the cube: the cube starts at sample 0,
+    // the empty voxel before the active box (index -7), and ends a cell past the last.
+    CHECK(placement.worldBounds.min().eq(Vec3d(3.0 - 7 * 0.5, 4.0 - 7 * 0.5, -2.0 - 7 * 0.5)));
+    CHECK(placement.worldBounds.max().eq(Vec3d(3.0 + 8 * 0.5, 4.0 + 8 * 0.5, -2.0 + 8 * 0.5)));
 
     auto accessor = grid->getConstAccessor();
     double worst = 0.0;
@@ -73,10 +75,11 @@ TEST_CASE("df3: a grid too large for maxResolution samples it on coarser cells",
     const Df3Volume volume = readDf3(dir + "/cloud.df3");
     CHECK(volume.nx == 8); // 15 cells at a factor of 2
     CHECK(placement.cellSize == 1.0);
-    CHECK(placement.worldBounds.min().eq(Vec3d(3.0 - 7.5 * 0.5, 4.0 - 7.5 * 0.5, -2.0 - 7.5 * 0.5)));
+    // Sample 0 at the centre of the first 2-voxel cell, index -7.5 + 1.
+    CHECK(placement.worldBounds.min().eq(Vec3d(3.0 - 6.5 * 0.5, 4.0 - 6.5 * 0.5, -2.0 - 6.5 * 0.5)));
     const openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> sampler(*grid);
     for (int x = 0; x < volume.nx; ++x) {
-        const Vec3d centre = placement.worldBounds.min() + Vec3d(x + 0.5, 3.5, 4.5) * placement.cellSize;
+        const Vec3d centre = placement.worldBounds.min() + Vec3d(x, 3, 4) * placement.cellSize;
         CHECK(volume.at(x, 3, 4) / 65535.0 * placement.densityScale ==
               Approx(sampler.wsSample(centre)).margin(placement.densityScale / 65535.0));
     }

@@ -6,15 +6,19 @@
 #include <vfield/core/atomic_file.h>
 #include <vfield/core/error.h>
 #include <vfield/mesh/procedural.h>
+#include <vfield/render/embree/cloud_volume.h>
 #include <vfield/render/embree/renderer.h>
+#include <vfield/render/embree/surfaces.h>
 #include <vfield/render/frame_image.h>
 #include <vfield/render/povray/df3.h>
+#include <vfield/render/povray/povray_backend.h>
 #include <vfield/render/povray/povray_runner.h>
 #include <vfield/render/povray/povray_scene.h>
 
 #include <catch2/catch.hpp>
 
 #include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -91,6 +95,51 @@ struct FixedScene {
         return povrayFrameText(frame);
     }
 };
+
+/// A density grid alone in the sky, drawn by both back-ends: linear RGB images.
+struct CloudInBoth {
+    OIIO::ImageBuf embree, povray;
+};
+
+CloudInBoth renderCloudInBoth(const openvdb::FloatGrid::Ptr& density, const RenderSettings& settings, const std::string& dir)
+{
+    SurfaceScene nothing;
+    nothing.commit();
+    const CloudLighting lighting(density, settings.medium, settings.sun.direction, {});
+    const CloudVolume volume(lighting, settings.medium, settings.integrator);
+    FrameToRender frame;
+    frame.settings = &settings;
+    frame.surfaces = &nothing;
+    frame.volume = volume.empty() ? nullptr : &volume;
+    frame.camera = Camera::fromSettings(settings.camera, settings.image.width, settings.image.height);
+    writeFrameImage(renderFrame(frame), dir + "/embree.png");
+    PovrayBackendOptions options;
+    options.workFolder = dir + "/povray-scene";
+    options.threads = 2;
+    PovrayBackend povray({}, 0.0, 1.0, settings, options);
+    povray.render(1, frame.camera, {}, lighting, dir + "/povray.png");
+
+    CloudInBoth images;
+    for (auto [name, image] : {std::pair{"embree", &images.embree}, std::pair{"povray", &images.povray}}) {
+        OIIO::ImageBuf srgb(dir + "/" + name + ".png");
+        REQUIRE(srgb.read(0, 0, true, OIIO::TypeDesc::FLOAT));
+        *image = OIIO::ImageBufAlgo::colorconvert(srgb, "sRGB", "linear");
+    }
+    return images;
+}
+
+/// Mean luminance-like sum of RGB over a pixel window.
+double meanRgb(const OIIO::ImageBuf& image, const OIIO::ROI& window)
+{
+    double sum = 0.0;
+    for (int y = window.ybegin; y < window.yend; ++y)
+        for (int x = window.xbegin; x < window.xend; ++x) {
+            float rgb[3];
+            image.getpixel(x, y, rgb, 3);
+            sum += rgb[0] + rgb[1] + rgb[2];
+        }
+    return sum / double(window.npixels());
+}
 
 /// Sets PATH for the scope of the object.
 class ScopedPath {
@@ -231,4 +280,86 @@ TEST_CASE("povray: a missing povray names the package, and a failing scene carri
         CHECK(message.find('\n') == std::string::npos);
     }
     CHECK_FALSE(fs::exists(dir + "/out.png"));
+}
+
+TEST_CASE("povray: a forward-scattering box agrees with vfield's within 25% towards the sun and 10% away", "[povray]")
+{
+    // POV-Ray averages the phase functions of all media a ray is in: with the
+    // sky light's isotropic medium beside the cloud's, anisotropy 0.6 scattered
+    // (HG + 1) / 2, half the forward lobe and 3.7 times the backward one.
+    REQUIRE_NOTHROW(requirePovray());
+    openvdb::initialize();
+    const openvdb::FloatGrid::Ptr box = openvdb::FloatGrid::create(0.0f);
+    box->setTransform(openvdb::math::Transform::createLinearTransform(0.25));
+    box->fill(openvdb::CoordBBox(openvdb::Coord(-16), openvdb::Coord(15)), 1.0f); // 8 units a side
+    RenderSettings settings;
+    settings.medium = {0.2, 0.9, 0.6};
+    settings.sun.direction = Vec3d(1, 0.25, 0).unit();
+    settings.sky.intensity = 0.3;
+    settings.image.width = 96;
+    settings.image.height = 64;
+    settings.image.samplesPerPixel = 4;
+    settings.integrator.volumeStep = 0.1;
+    const OIIO::ROI centre(40, 56, 24, 40, 0, 1, 0, 3); // inside the box's silhouette from both sides
+    for (const double side : {1.0, -1.0}) {
+        // side 1: the camera looks towards the sun through the box; -1: away from it.
+        settings.camera.position = -settings.sun.direction * (side * 20.0);
+        settings.camera.lookAt = Vec3d(0.0);
+        settings.camera.fovDegrees = 40;
+        const CloudInBoth images =
+            renderCloudInBoth(box, settings, test::scratchDir(side > 0 ? "povray-phase-towards" : "povray-phase-away"));
+        const double ours = meanRgb(images.embree, centre), theirs = meanRgb(images.povray, centre);
+        WARN((side > 0 ? "towards" : "away from")
+             << " the sun: vfield " << ours << ", POV-Ray " << theirs << " (ratio " << theirs / ours << ")");
+        // Averaged phases gave ratios of 0.50 towards and 1.30 away. Now 0.82
+        // and 0.93; with the sky off, 0.78 and 1.01: POV-Ray's forward peak
+        // stays about 20% below vfield's, a difference not yet explained
+        // (README, POV-Ray).
+        CHECK(theirs == Approx(ours).epsilon(side > 0 ? 0.25 : 0.10));
+    }
+}
+
+TEST_CASE("povray: a one-voxel density impulse lands on the same pixel in both back-ends", "[povray]")
+{
+    // df3 samples sit at i/n of POV-Ray's cube; placed at cell centres, the
+    // cloud moved by half a cell.
+    REQUIRE_NOTHROW(requirePovray());
+    openvdb::initialize();
+    const openvdb::FloatGrid::Ptr impulse = openvdb::FloatGrid::create(0.0f);
+    impulse->setTransform(openvdb::math::Transform::createLinearTransform(1.0));
+    impulse->tree().setValue(openvdb::Coord(3, 2, -1), 40.0f);
+    const openvdb::FloatGrid::Ptr empty = openvdb::FloatGrid::create(0.0f);
+    RenderSettings settings;
+    settings.medium = {1.0, 0.0, 0.0}; // absorbing: a dark spot against the sky
+    settings.sky.zenithColor = settings.sky.horizonColor = Vec3d(0.6, 0.7, 0.9);
+    settings.image.width = 64;
+    settings.image.height = 64;
+    settings.image.samplesPerPixel = 4;
+    settings.integrator.volumeStep = 0.05;
+    settings.camera.position = Vec3d(1, 1, 12); // off-axis, so a shift on any axis moves the spot
+    settings.camera.lookAt = Vec3d(3, 2, -1);
+    settings.camera.fovDegrees = 20;
+    const CloudInBoth with = renderCloudInBoth(impulse, settings, test::scratchDir("povray-impulse"));
+    const CloudInBoth without = renderCloudInBoth(empty, settings, test::scratchDir("povray-impulse-sky"));
+    // The spot's centre: pixels weighted by how much sky the impulse took away.
+    const auto spot = [&](const OIIO::ImageBuf& image, const OIIO::ImageBuf& sky) {
+        double sum = 0.0, x = 0.0, y = 0.0;
+        for (int py = 0; py < settings.image.height; ++py)
+            for (int px = 0; px < settings.image.width; ++px) {
+                float a[3], b[3];
+                image.getpixel(px, py, a, 3);
+                sky.getpixel(px, py, b, 3);
+                const double w = std::max(0.0, double(b[0] + b[1] + b[2] - a[0] - a[1] - a[2]));
+                sum += w;
+                x += w * (px + 0.5);
+                y += w * (py + 0.5);
+            }
+        REQUIRE(sum > 0.0);
+        return std::pair{x / sum, y / sum};
+    };
+    const auto [ox, oy] = spot(with.embree, without.embree);
+    const auto [px, py] = spot(with.povray, without.povray);
+    WARN("impulse centre: vfield (" << ox << ", " << oy << "), POV-Ray (" << px << ", " << py << ") pixels; a voxel spans about "
+                                    << settings.image.height / (2 * 13 * std::tan(10 * M_PI / 180)) << " pixels");
+    CHECK(std::hypot(px - ox, py - oy) < 0.5);
 }

@@ -41,10 +41,14 @@ Df3Placement writeDf3(const openvdb::FloatGrid& density, const std::string& path
         std::max(1, int(std::ceil(double(std::max({extent.x(), extent.y(), extent.z()})) / std::max(1, maxResolution))));
     const int n[3] = {(extent.x() + factor - 1) / factor, (extent.y() + factor - 1) / factor, (extent.z() + factor - 1) / factor};
     const openvdb::Vec3d first = active.empty() ? openvdb::Vec3d(0.0) : (active.min() - openvdb::Coord(1)).asVec3d();
-    // Index-space corner of the file's box: cell i covers [first + i f - 1/2, first + (i + 1) f - 1/2).
+    // Index-space corner of the sampled cells: cell i covers [first + i f - 1/2, first + (i + 1) f - 1/2)
+    // and its sample sits at its centre. POV-Ray puts sample i at i/n of its unit cube, so
+    // the cube starts at sample 0 and reaches one cell past the last one (where its
+    // interpolation wraps to sample 0: both empty border cells, so it reads zero).
     const openvdb::Vec3d corner = first - openvdb::Vec3d(0.5);
-    placement.worldBounds =
-        BBoxd(transform.indexToWorld(corner), transform.indexToWorld(corner + openvdb::Vec3d(n[0], n[1], n[2]) * double(factor)));
+    const openvdb::Vec3d firstSample = corner + openvdb::Vec3d(0.5 * factor);
+    placement.worldBounds = BBoxd(transform.indexToWorld(firstSample),
+                                  transform.indexToWorld(firstSample + openvdb::Vec3d(n[0], n[1], n[2]) * double(factor)));
     placement.cellSize = transform.voxelSize()[0] * factor;
     placement.densityScale = maxDensity > 0.0f ? maxDensity : 0.0;
 

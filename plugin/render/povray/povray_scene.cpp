@@ -151,11 +151,15 @@ std::string povrayFrameText(const PovrayFrame& f)
             << "      scattering { 5, rgb " << num(sigmaS / 4.0) << " eccentricity " << num(medium.anisotropy)
             << " extinction 4 }\n"
             << "      density { density_file df3 \"" << cloud.df3File << "\" interpolate 1 }\n    }\n";
+        // POV-Ray averages the phase functions of every medium a ray is in,
+        // whatever they scatter: the sky light's medium carries the same
+        // Henyey-Greenstein lobe (scattering nothing) so the sun's stays as it is.
         if (cloud.skyLitPlacement.densityScale > 0.0)
             out << "    media {\n      method 3 intervals 1 samples " << samples << "\n"
                 << "      emission rgb "
-                << vec(skyMean * (medium.extinction * medium.albedo * cloud.skyLitPlacement.densityScale))
-                << "\n      density { density_file df3 \"" << cloud.skyLitDf3File << "\" interpolate 1 }\n    }\n";
+                << vec(skyMean * (medium.extinction * medium.albedo * cloud.skyLitPlacement.densityScale)) << "\n"
+                << "      scattering { 5, rgb 0 eccentricity " << num(medium.anisotropy) << " }\n"
+                << "      density { density_file df3 \"" << cloud.skyLitDf3File << "\" interpolate 1 }\n    }\n";
         out << "  }\n  scale " << vec(Vec3d(size[0], size[1], -size[2])) << "\n"
             << "  translate " << vec(mirrored(box.min())) << "\n}\n";
     }

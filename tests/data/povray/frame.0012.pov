@@ -54,9 +54,10 @@ box { <0, 0, 0>, <1, 1, 1>
     media {
       method 3 intervals 1 samples 26
       emission rgb <0.603, 0.864, 1.485>
+      scattering { 5, rgb 0 eccentricity 0.3 }
       density { density_file df3 "sky_lit.0012.df3" interpolate 1 }
     }
   }
   scale <4, 4, -3>
-  translate <0.5, 3.5, 1.5>
+  translate <1, 4, 1>
 }

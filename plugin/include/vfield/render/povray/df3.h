@@ -16,7 +16,11 @@
 namespace vfield {
 
 struct Df3Placement {
-    BBoxd worldBounds;       ///< the unit cube of the file, in world space
+    /// The unit cube of the file, in world space, as POV-Ray reads it: sample
+    /// i at i/n along each axis (its trilinear interpolation runs from sample
+    /// i to i + 1, wrapping after the last), so the cube starts at sample 0's
+    /// position and reaches one cell past the last sample's.
+    BBoxd worldBounds;
     double densityScale = 0; ///< density = value / 65535 * densityScale (0 for an empty grid)
     double cellSize = 0;     ///< world units per sample along each axis
 };
@@ -29,7 +33,7 @@ struct Df3Volume {
 
 /// Samples the density over the bounding box of its active voxels, grown by
 /// one empty cell on each side so the medium fades to zero inside the box, and
-/// writes it to path atomically. Samples lie at cell centres; at the grid's
+/// writes it to path atomically. Samples lie at the cells' centres; at the grid's
 /// own voxel size they are the voxels' values, exactly. Where an axis would
 /// need more than maxResolution cells the cells grow by a whole factor and
 /// sample the grid trilinearly. Throws ValueError for a grid that is not
