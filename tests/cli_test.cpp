@@ -174,6 +174,28 @@ TEST_CASE("cli: a bad scene is one line naming the file and the JSON path", "[cl
     CHECK_FALSE(std::filesystem::exists(dir + "/out"));
 }
 
+TEST_CASE("cli: a scene estimated beyond --max-memory is refused at once, naming the key and the estimate", "[cli]")
+{
+    // A terrain of 8000 x 8000 cells was still building after 120 s with 15 GB
+    // resident and nothing written; its estimate is 14.5 GiB (120 bytes a
+    // triangle, measured).
+    const std::string dir = vfield::test::scratchDir("cli-max-memory");
+    const std::string scene = std::string(VFIELD_SCENES_DIR) + "/cloud_over_terrain.json";
+    const Run big = vfieldCli("simulate " + scene + " -o " + dir +
+                                  "/out --set '/objects/0/mesh/terrain/cells=[8000,8000]' "
+                                  "--max-memory 4G",
+                              dir);
+    CHECK(big.exitCode == 1);
+    CHECK(big.err == "vfield simulate: " + scene +
+                         ": /objects/0/mesh/terrain/cells: the scene needs about 14.5 GiB of memory, more than the limit "
+                         "(4.0 GiB); 128064002 triangles here take 14.3 GiB (raise the limit with --max-memory)\n");
+    CHECK_FALSE(std::filesystem::exists(dir + "/out"));
+    // Raised past the estimate, the same limit lets the shipped scene through.
+    const Run shipped = vfieldCli("simulate " + scene + " -o " + dir + "/out --frames 1-1 --max-memory 512M --quiet", dir);
+    CHECK(shipped.exitCode == 0);
+    CHECK(vfieldCli("simulate " + scene + " -o " + dir + "/out --max-memory 12Q", dir).exitCode == 2);
+}
+
 TEST_CASE("cli: simulate writes frames and progress and export-mesh places objects", "[cli]")
 {
     const std::string dir = vfield::test::scratchDir("cli-simulate");

@@ -201,7 +201,7 @@ TEST_CASE("showcase: the cloud squeezes through the pass and leaves without a pe
 {
     const Scene scene = test::showcaseAtTestResolution("cloud_over_terrain.json", 4000, 240);
     const std::string dir = test::scratchDir("cloud-showcase");
-    const SimulateSummary summary = simulateScene(scene, dir, {240, 240, {}});
+    const SimulateSummary summary = simulateScene(scene, dir, {240, 240, {}, {}});
     CHECK(summary.worstParticles.penetrations == 0);
     CHECK(summary.worstParticles.minimum > 1.0);
     // Across the wind (z) the cloud is squeezed where the pass cuts the ridge
@@ -223,7 +223,7 @@ TEST_CASE("showcase: the airplane flies the canyon without touching it", "[sim][
 {
     const Scene scene = test::showcaseAtTestResolution("canyon_flythrough.json", 0, 330);
     const std::string dir = test::scratchDir("canyon-showcase");
-    const SimulateSummary summary = simulateScene(scene, dir, {330, 330, {}});
+    const SimulateSummary summary = simulateScene(scene, dir, {330, 330, {}, {}});
     REQUIRE(summary.closestPairs.size() == 1); // the airplane and the mountains, mesh to mesh
     CHECK(summary.overlappingPairFrames == 0);
     CHECK(summary.closestPairs[0].minimum > 0.3);

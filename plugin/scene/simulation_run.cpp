@@ -2,6 +2,7 @@
 
 #include <vfield/core/error.h>
 #include <vfield/core/vdb_file.h>
+#include <vfield/scene/memory_estimate.h>
 #include <vfield/volume/density_splat.h>
 #include <vfield/volume/particle_grid.h>
 
@@ -34,6 +35,17 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
         throw ValueError("frames " + std::to_string(writeFirst) + "-" + std::to_string(writeLast) +
                          " are not within the scene's " + std::to_string(setup.firstFrame) + "-" +
                          std::to_string(setup.lastFrame));
+
+    // Before anything is written or built: a scene too large is refused at once.
+    const std::optional<double> limit = options.maxMemoryBytes ? options.maxMemoryBytes : availableMemory();
+    if (limit) {
+        try {
+            requireMemoryWithin(estimateSimulationMemory(scene), *limit,
+                                options.maxMemoryBytes ? "the limit" : "the memory available");
+        } catch (const OptionError& e) {
+            throw FileError(scene.path, e.what());
+        }
+    }
 
     std::error_code ec;
     fs::create_directories(outputDir, ec);

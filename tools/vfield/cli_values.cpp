@@ -2,6 +2,8 @@
 
 #include <vfield/core/error.h>
 
+#include <cctype>
+#include <cmath>
 #include <sstream>
 
 namespace vfield::cli {
@@ -60,6 +62,32 @@ void addSplitRuleOption(CLI::App& command, std::optional<SplitRule>& rule)
             "apart, so thin parts push away on both sides) or paper (the triangle count only, as the paper) "
             "[default: normalCone; for a scene, its objects' repulsion.splitRule]")
         ->type_name("normalCone|paper");
+}
+
+void addMaxMemoryOption(CLI::App& command, std::optional<double>& bytes)
+{
+    command
+        .add_option_function<std::string>(
+            "--max-memory",
+            [&bytes](const std::string& text) {
+                std::istringstream in(text);
+                double value = 0.0;
+                std::string unit;
+                const bool number = bool(in >> value);
+                in >> unit;
+                const std::string units = "KMGT";
+                const std::size_t prefix =
+                    unit.empty() ? std::string::npos : units.find(char(std::toupper(static_cast<unsigned char>(unit[0]))));
+                const std::size_t power = unit.empty() ? 0 : prefix + 1;
+                const bool known = unit.empty() || (prefix != std::string::npos &&
+                                                    (unit.size() == 1 || unit.substr(1) == "iB" || unit.substr(1) == "B"));
+                if (!number || !in.eof() || !(value > 0.0) || !known)
+                    throw CLI::ValidationError("--max-memory", "expected a size such as 16G or 512M, got '" + text + "'");
+                bytes = value * std::pow(1024.0, double(power));
+            },
+            "Refuse a scene estimated to need more memory than this, before loading it (scenes/README.md) "
+            "[default: the memory available]")
+        ->type_name("SIZE");
 }
 
 void ImageOverrides::applyTo(ImageSettings& image) const

@@ -21,6 +21,9 @@ void addFrameRangeOption(CLI::App& command, std::optional<FrameRange>& range, co
 /// --split-rule normalCone|paper, for every command that builds a field.
 void addSplitRuleOption(CLI::App& command, std::optional<SplitRule>& rule);
 
+/// --max-memory SIZE (bytes, or with K, M, G, T: binary multiples) for the commands that simulate.
+void addMaxMemoryOption(CLI::App& command, std::optional<double>& bytes);
+
 /// --resolution WxH and --spp N: changes to the scene's image settings,
 /// checked against ImageSettings' own limits.
 struct ImageOverrides {

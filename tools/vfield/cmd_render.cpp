@@ -124,6 +124,7 @@ Runner registerRun(CLI::App& app, const GlobalOptions& global)
         SceneCliOptions scene;
         std::string output;
         RenderCliOptions render;
+        std::optional<double> maxMemory;
     };
     auto o = std::make_shared<Options>();
     CLI::App* command = app.add_subcommand(
@@ -132,12 +133,14 @@ Runner registerRun(CLI::App& app, const GlobalOptions& global)
     addSplitRuleOption(*command, o->scene.splitRule);
     command->add_option("-o,--output", o->output, "Output folder")->required();
     addRenderOptions(*command, o->render);
+    addMaxMemoryOption(*command, o->maxMemory);
 
     return [o, command, &global] {
         const auto threads = limitThreads(o->render.threads);
         const Scene scene = sceneToRender(o->scene, o->render);
         const RenderRunOptions options = toRunOptions(o->render, *command);
         SimulateOptions simulate;
+        simulate.maxMemoryBytes = o->maxMemory;
         simulate.firstFrame = options.firstFrame;
         simulate.lastFrame = options.lastFrame;
         {

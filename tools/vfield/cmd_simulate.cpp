@@ -33,6 +33,7 @@ Runner registerSimulate(CLI::App& app, const GlobalOptions& global)
         std::string output;
         std::optional<FrameRange> frames;
         int threads = 0;
+        std::optional<double> maxMemory;
     };
     auto o = std::make_shared<Options>();
     CLI::App* command = app.add_subcommand("simulate", "Animate a scene and write OpenVDB volumes and particles per frame");
@@ -41,11 +42,13 @@ Runner registerSimulate(CLI::App& app, const GlobalOptions& global)
     command->add_option("-o,--output", o->output, "Output folder (resumes a run of the same scene found there)")->required();
     addFrameRangeOption(*command, o->frames, "Frames to write, A-B or A [default: the scene's range]");
     command->add_option("--threads", o->threads, "Worker threads [default: all cores]")->check(CLI::PositiveNumber);
+    addMaxMemoryOption(*command, o->maxMemory);
 
     return [o, &global] {
         const auto threads = limitThreads(o->threads);
         const Scene scene = loadScene(o->scene);
         SimulateOptions options;
+        options.maxMemoryBytes = o->maxMemory;
         if (o->frames) {
             options.firstFrame = o->frames->first;
             options.lastFrame = o->frames->last;

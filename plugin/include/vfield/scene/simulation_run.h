@@ -32,6 +32,9 @@ struct SimulateOptions {
     std::optional<int> firstFrame, lastFrame;
     /// Called after each frame (from the calling thread).
     std::function<void(const FrameProgress&)> progress;
+    /// Refuse, before loading anything, a scene estimated to need more memory
+    /// than this (bytes; memory_estimate.h). Unset: the memory available now.
+    std::optional<double> maxMemoryBytes;
 };
 
 struct SimulateSummary {
