@@ -6,6 +6,8 @@
 #
 # A case file (JSON) holds:
 #   "why":      what the case guards and why its thresholds are what they are
+#   "regenerated": (optional, not read) each time its goldens were remade on
+#               purpose (tools/update-goldens), when and why
 #   "commands": vfield command lines (arrays of arguments); @SOURCE@ is the
 #               source tree, @OUT@ the case's scratch folder
 #   "images":   the images the commands write, relative to @OUT@; each is
