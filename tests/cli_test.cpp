@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -252,6 +253,9 @@ TEST_CASE("cli: render refuses bad simulations with one line and writes no image
     CHECK(again.err.find("rendered 0 frames") != std::string::npos);
     CHECK(again.err.find("skipped 1") != std::string::npos);
     CHECK(std::filesystem::last_write_time(dir + "/img/frame.0002.png") == written);
+    // A frame simulated again since (an edited scene is simulated afresh) is rendered again.
+    std::filesystem::last_write_time(dir + "/sim/density.0002.vdb", written + std::chrono::seconds(1));
+    CHECK(render(dir + "/sim").err.find("rendered 1 frame") != std::string::npos);
     std::filesystem::remove_all(dir + "/img");
 
     std::filesystem::remove(dir + "/sim/density.0002.vdb");

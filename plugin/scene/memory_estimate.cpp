@@ -27,8 +27,10 @@ std::pair<double, std::string> trianglesOf(const MeshSource& mesh)
         const double x = mesh.terrain.cellsX, z = mesh.terrain.cellsZ;
         return {2.0 * x * z + 4.0 * (x + z) + 2.0, "terrain/cells"}; // the surface, its skirt and its base
     }
-    case MeshSource::Kind::Sphere: return {20.0 * std::pow(4.0, mesh.sphere.subdivisions), "sphere/subdivisions"};
-    case MeshSource::Kind::Box: return {12.0, "box"};
+    case MeshSource::Kind::Sphere:
+        return {20.0 * std::pow(4.0, mesh.sphere.subdivisions), "sphere/subdivisions"};
+    case MeshSource::Kind::Box:
+        return {12.0, "box"};
     case MeshSource::Kind::File: {
         std::error_code ec;
         const double size = double(std::filesystem::file_size(mesh.path, ec));
@@ -107,7 +109,7 @@ void requireMemoryWithin(const MemoryEstimate& estimate, double limitBytes, cons
                                " (" + memoryText(limitBytes) + ")";
     if (largest == estimate.parts.end()) throw ValueError(detail);
     throw OptionError(largest->key, detail + "; " + largest->what + " here take " + memoryText(largest->bytes) +
-                                         " (raise the limit with --max-memory)");
+                                        " (raise the limit with --max-memory)");
 }
 
 } // namespace vfield

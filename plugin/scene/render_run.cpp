@@ -101,7 +101,16 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
         outputs = embreeImages;
         if (usePovray) outputs.push_back(povrayImage);
         if (both) outputs.push_back(sideBySide);
-        const bool done = std::all_of(outputs.begin(), outputs.end(), [](const std::string& p) { return fs::exists(p); });
+        // Finished: every output exists and is newer than the frame's simulation
+        // (a frame simulated again since, after an edit of the scene, is stale).
+        const auto writeTime = [](const std::string& path) {
+            std::error_code ec;
+            const fs::file_time_type time = fs::last_write_time(path, ec);
+            return ec ? fs::file_time_type::min() : time;
+        };
+        const fs::file_time_type simulated = writeTime(simulation.densityFile(f));
+        const bool done = std::all_of(outputs.begin(), outputs.end(),
+                                      [&](const std::string& p) { return fs::exists(p) && writeTime(p) >= simulated; });
         if (done && !options.force) {
             ++summary.skipped;
             continue;
