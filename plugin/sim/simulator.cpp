@@ -85,6 +85,18 @@ void turn(DynamicState& state, const Vec3d& acceleration, const ObjectSpec& spec
         (Quatd(Vec3d(0, 1, 0), heading) * Quatd(Vec3d(0, 0, 1), state.pitch) * Quatd(Vec3d(1, 0, 0), -state.roll)).unit();
 }
 
+/// Unrotated objects (terrain, as a rule) skip the rotations, which would change nothing.
+bool isRotated(const Transform& pose)
+{
+    const Quatd& q = pose.rotation;
+    return !(q.w() == 1.0 && q.x() == 0.0 && q.y() == 0.0 && q.z() == 0.0);
+}
+
+Vec3d objectPoint(const Transform& pose, const Vec3d& world)
+{
+    return isRotated(pose) ? pose.objectFromWorld(world) : (world - pose.translation) / pose.scale;
+}
+
 Quatd slerp(const Quatd& a, Quatd b, double t)
 {
     double dot = a.x() * b.x() + a.y() * b.y() + a.z() * b.z() + a.w() * b.w();
@@ -120,8 +132,10 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
         if (object.spec->repulsion) {
             object.field = std::make_shared<OctreeField>(OctreeField::build(object.mesh, *object.spec->repulsion));
             VoxelizeOptions voxelize;
-            voxelize.withLevel = voxelize.withSurface = false;
-            object.forceGrid = voxelizeField(*object.field, voxelize).force;
+            voxelize.withSurface = false;
+            const FieldGrids grids = voxelizeField(*object.field, voxelize);
+            object.forceGrid = grids.force;
+            object.levelGrid = grids.level;
         }
         if (object.spec->isDynamic) {
             for (std::size_t t = 0; t < object.mesh.triangleCount(); ++t) object.centroids.push_back(object.mesh.centroid(t));
@@ -204,10 +218,8 @@ Vec3d Simulator::repulsion(const Vec3d& p, double time, openvdb::Vec3SGrid::Cons
         const std::size_t i = mRepulsive[k];
         const SimObject& object = mObjects[i];
         const Transform pose = object.spec->isDynamic ? poseAt(i, time) : mStates[i].pose;
-        // Unrotated objects (terrain, as a rule) skip both rotations, which would change nothing.
-        const Quatd& q = pose.rotation;
-        const bool rotated = !(q.w() == 1.0 && q.x() == 0.0 && q.y() == 0.0 && q.z() == 0.0);
-        const Vec3d local = rotated ? pose.objectFromWorld(p) : (p - pose.translation) / pose.scale;
+        const bool rotated = isRotated(pose);
+        const Vec3d local = objectPoint(pose, p);
         if (!object.field->bounds().isInside(local)) continue;
         const openvdb::Vec3d index = object.forceGrid->transform().worldToIndex(local);
         openvdb::Vec3s f;
@@ -298,7 +310,7 @@ void Simulator::measureFieldSpeeds(double t0, double t1)
     }
 }
 
-Simulator::LocalBound Simulator::localBound(const Vec3d& p, double time) const
+Simulator::LocalBound Simulator::localBound(const Vec3d& p, double time, openvdb::Int32Grid::ConstAccessor* levels) const
 {
     LocalBound bound;
     bool inAnyField = false;
@@ -307,7 +319,7 @@ Simulator::LocalBound Simulator::localBound(const Vec3d& p, double time) const
         const std::size_t i = mRepulsive[k];
         const SimObject& object = mObjects[i];
         const Transform pose = object.spec->isDynamic ? poseAt(i, time) : mStates[i].pose;
-        const Vec3d local = pose.objectFromWorld(p);
+        const Vec3d local = objectPoint(pose, p);
         const OctreeField& field = *object.field;
         // A moving field reaches whatever its root sweeps over during the frame.
         const double sweep = k < mFieldSpeed.size() ? mFieldSpeed[k] * mFieldFrameTime / pose.scale : 0.0;
@@ -315,7 +327,11 @@ Simulator::LocalBound Simulator::localBound(const Vec3d& p, double time) const
         reach.expand(sweep);
         if (!reach.isInside(local)) continue;
         inAnyField = true;
-        const int level = field.bounds().isInside(local) ? std::max(field.sample(local).level, 1) : field.depth();
+        // The leaf's level from the voxel holding p: finest-leaf voxels never straddle a leaf.
+        const int level =
+            field.bounds().isInside(local)
+                ? std::max(levels[k].getValue(openvdb::Coord::round(object.levelGrid->transform().worldToIndex(local))), 1)
+                : field.depth();
         cell = std::min(cell, field.cellSize(level) * pose.scale);
         if (k < mFieldSpeed.size()) bound.fieldSpeed = std::max(bound.fieldSpeed, mFieldSpeed[k]);
     }
@@ -373,7 +389,11 @@ void Simulator::advanceParticles(double t0, double t1)
 
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& range) {
         std::vector<openvdb::Vec3SGrid::ConstAccessor> accessors;
-        for (const std::size_t i : mRepulsive) accessors.push_back(mObjects[i].forceGrid->getConstAccessor());
+        std::vector<openvdb::Int32Grid::ConstAccessor> levels;
+        for (const std::size_t i : mRepulsive) {
+            accessors.push_back(mObjects[i].forceGrid->getConstAccessor());
+            levels.push_back(mObjects[i].levelGrid->getConstAccessor());
+        }
         std::vector<MeshDistance::Accessor> distances;
         for (const std::size_t i : mContact) distances.push_back(mObjects[i].distance->accessor());
         for (std::size_t p = range.begin(); p != range.end(); ++p) {
@@ -388,9 +408,9 @@ void Simulator::advanceParticles(double t0, double t1)
                 // Each move stays within cfl of the cells around the particle,
                 // counting the motion of fields sweeping over it; where the
                 // step would end in finer cells, those bound it too.
-                const LocalBound here = localBound(x, t);
+                const LocalBound here = localBound(x, t, levels.data());
                 double dt = std::min(t1 - t, stepLimit(v.length() + here.fieldSpeed, a.length(), cfl * here.cell));
-                const LocalBound there = localBound(x + v * dt, t + dt);
+                const LocalBound there = localBound(x + v * dt, t + dt, levels.data());
                 if (there.cell < here.cell || there.fieldSpeed > here.fieldSpeed)
                     dt = std::min(dt, stepLimit(v.length() + std::max(here.fieldSpeed, there.fieldSpeed), a.length(),
                                                 cfl * std::min(here.cell, there.cell)));

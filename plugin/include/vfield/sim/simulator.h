@@ -42,6 +42,7 @@ struct SimObject {
     TriangleMesh mesh;                  ///< object space
     std::shared_ptr<OctreeField> field; ///< null without repulsion
     openvdb::Vec3SGrid::Ptr forceGrid;  ///< the field voxelized in object space; null without repulsion
+    openvdb::Int32Grid::Ptr levelGrid;  ///< the leaves' levels on the same voxels: the cell size at a point
     std::vector<Vec3d> centroids;       ///< object space, for the hit test (dynamic objects)
     double radius = 0.0;                ///< farthest vertex from the pivot, object units: how far rotation moves it
     MeshLoadReport loadReport;          ///< what loading a mesh file found and repaired
@@ -96,17 +97,6 @@ public:
     /// the dynamic objects' shared substeps (particles use the cells around them).
     double finestCellSize() const { return mFinestCell; }
 
-    /// What bounds a particle's substep at p: the size of the smallest field
-    /// cell there (world units; 1 where no field reaches), and the speed of
-    /// the fastest field moving over p this frame (a dynamic object's
-    /// translation plus its rotation at its root's corners; its root counts
-    /// grown by its travel in the frame, since it sweeps that far).
-    struct LocalBound {
-        double cell = 1.0;
-        double fieldSpeed = 0.0;
-    };
-    LocalBound localBound(const Vec3d& p, double time) const;
-
     /// The static objects' forces summed into one world-space grid.
     openvdb::Vec3SGrid::Ptr staticForceGrid() const;
 
@@ -117,6 +107,16 @@ public:
 
 private:
     Vec3d repulsion(const Vec3d& worldPoint, double time, openvdb::Vec3SGrid::ConstAccessor* accessors) const;
+    /// What bounds a particle's substep at p: the size of the smallest field
+    /// cell there (world units; 1 where no field reaches), and the speed of
+    /// the fastest field moving over p this frame (a dynamic object's
+    /// translation plus its rotation at its root's corners; its root counts
+    /// grown by its travel in the frame, since it sweeps that far).
+    struct LocalBound {
+        double cell = 1.0;
+        double fieldSpeed = 0.0;
+    };
+    LocalBound localBound(const Vec3d& p, double time, openvdb::Int32Grid::ConstAccessor* levels) const;
     void advanceDynamicObjects(double t0, double t1);
     void advanceParticles(double t0, double t1);
     bool resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t, double dt,
