@@ -197,6 +197,23 @@ TEST_CASE("cli: a scene estimated beyond --max-memory is refused at once, naming
     CHECK(vfieldCli("simulate " + scene + " -o " + dir + "/out --max-memory 12Q", dir).exitCode == 2);
 }
 
+TEST_CASE("cli: a mesh file too large for the machine is refused before it is read", "[cli]")
+{
+    // A 64 GiB OBJ (sparse: it takes no disk) would be about 2 billion
+    // triangles: more than any machine here holds, so probe refuses it from
+    // its size, before reading a byte.
+    const std::string dir = vfield::test::scratchDir("cli-huge-mesh");
+    std::ofstream(dir + "/huge.obj").close();
+    std::filesystem::resize_file(dir + "/huge.obj", 64ull << 30);
+    std::ofstream(dir + "/points.csv") << "0,0,0\n";
+    const Run run = vfieldCli("probe " + dir + "/huge.obj --points " + dir + "/points.csv", dir);
+    CHECK(run.exitCode == 1);
+    CHECK(lineCount(run.err) == 1);
+    CHECK_THAT(run.err, Catch::StartsWith("vfield probe: " + dir + "/huge.obj: loading it and building its field needs about "));
+    CHECK_THAT(run.err, Catch::Contains("2147483648 triangles (by the file's size)"));
+    std::filesystem::remove_all(dir);
+}
+
 TEST_CASE("cli: simulate writes frames and progress and export-mesh places objects", "[cli]")
 {
     const std::string dir = vfield::test::scratchDir("cli-simulate");

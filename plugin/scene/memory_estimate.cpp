@@ -87,6 +87,18 @@ MemoryEstimate estimateSimulationMemory(const Scene& scene)
     return estimate;
 }
 
+MemoryEstimate estimateMeshFileMemory(const std::string& path)
+{
+    MeshSource source;
+    source.kind = MeshSource::Kind::File;
+    source.path = path;
+    const double triangles = trianglesOf(source).first;
+    MemoryEstimate estimate;
+    estimate.parts.push_back({"", countText(triangles) + " triangles (by the file's size)", triangles * kBytesPerTriangle});
+    estimate.bytes = kBaseBytes + estimate.parts.back().bytes;
+    return estimate;
+}
+
 std::optional<double> availableMemory()
 {
     std::ifstream in("/proc/meminfo");
@@ -100,12 +112,13 @@ std::optional<double> availableMemory()
     return std::nullopt;
 }
 
-void requireMemoryWithin(const MemoryEstimate& estimate, double limitBytes, const std::string& limitName)
+void requireMemoryWithin(const MemoryEstimate& estimate, double limitBytes, const std::string& limitName,
+                         const std::string& subject)
 {
     if (estimate.bytes <= limitBytes) return;
     const auto largest = std::max_element(estimate.parts.begin(), estimate.parts.end(),
                                           [](const auto& a, const auto& b) { return a.bytes < b.bytes; });
-    const std::string detail = "the scene needs about " + memoryText(estimate.bytes) + " of memory, more than " + limitName +
+    const std::string detail = subject + " needs about " + memoryText(estimate.bytes) + " of memory, more than " + limitName +
                                " (" + memoryText(limitBytes) + ")";
     if (largest == estimate.parts.end()) throw ValueError(detail);
     throw OptionError(largest->key, detail + "; " + largest->what + " here take " + memoryText(largest->bytes) +

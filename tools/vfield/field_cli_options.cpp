@@ -1,8 +1,10 @@
 #include "field_cli_options.h"
 #include "cli_values.h"
 
+#include <vfield/core/error.h>
 #include <vfield/mesh/mesh_io.h>
 #include <vfield/mesh/tessellate.h>
+#include <vfield/scene/memory_estimate.h>
 
 #include <chrono>
 #include <cstdio>
@@ -26,6 +28,7 @@ void addFieldOptions(CLI::App& command, FieldCliOptions& o)
     addSplitRuleOption(command, o.splitRule);
     command.add_option("--tessellate", o.tessellateEdge, "Split mesh edges longer than this first, object units")
         ->check(CLI::PositiveNumber);
+    addMaxMemoryOption(command, o.maxMemory);
 }
 
 MeshAndField loadMeshAndBuildField(const FieldCliOptions& o, const GlobalOptions& global)
@@ -34,6 +37,15 @@ MeshAndField loadMeshAndBuildField(const FieldCliOptions& o, const GlobalOptions
     if (o.command->count("--margin") > 0) octree.margin = o.margin;
     if (o.splitRule) octree.splitRule = *o.splitRule;
 
+    // A mesh too large for the machine is refused before it is read.
+    if (const std::optional<double> limit = o.maxMemory ? o.maxMemory : availableMemory()) {
+        try {
+            requireMemoryWithin(estimateMeshFileMemory(o.meshPath), *limit, o.maxMemory ? "the limit" : "the memory available",
+                                "loading it and building its field");
+        } catch (const OptionError& e) {
+            throw FileError(o.meshPath, e.what());
+        }
+    }
     MeshLoadReport report;
     TriangleMesh mesh = loadMesh(o.meshPath, &report);
     for (const std::string& line : report.lines(o.meshPath)) log(global, line);

@@ -17,6 +17,7 @@ struct FieldCliOptions {
     double tessellateEdge = 0.0;
     OctreeFieldOptions octree;
     std::optional<SplitRule> splitRule;
+    std::optional<double> maxMemory; ///< bytes (--max-memory)
     const CLI::App* command = nullptr;
 };
 

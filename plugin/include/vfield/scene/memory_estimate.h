@@ -35,13 +35,18 @@ struct MemoryEstimate {
 
 MemoryEstimate estimateSimulationMemory(const Scene& scene);
 
+/// Loading a mesh file and building its field (probe, bake-field,
+/// field-slice): the same costs, the file counted by its size.
+MemoryEstimate estimateMeshFileMemory(const std::string& path);
+
 /// The memory the system could give a new process without swapping
 /// (MemAvailable in /proc/meminfo), bytes; nullopt where it cannot be read.
 std::optional<double> availableMemory();
 
 /// Throws OptionError on the largest part's key when the estimate exceeds
-/// limitBytes, with both figures in the message.
-void requireMemoryWithin(const MemoryEstimate& estimate, double limitBytes, const std::string& limitName);
+/// limitBytes, with both figures in the message ("<subject> needs about ...").
+void requireMemoryWithin(const MemoryEstimate& estimate, double limitBytes, const std::string& limitName,
+                         const std::string& subject = "the scene");
 
 /// "15.6 GiB", "512 MiB".
 std::string memoryText(double bytes);
