@@ -85,7 +85,7 @@ void addMaxMemoryOption(CLI::App& command, std::optional<double>& bytes)
                     throw CLI::ValidationError("--max-memory", "expected a size such as 16G or 512M, got '" + text + "'");
                 bytes = value * std::pow(1024.0, double(power));
             },
-            "Refuse a scene estimated to need more memory than this, before loading it (scenes/README.md) "
+            "Refuse a scene or mesh estimated to need more memory than this, before loading it (scenes/README.md) "
             "[default: the memory available]")
         ->type_name("SIZE");
 }
