@@ -189,7 +189,7 @@ TEST_CASE("cli: a scene estimated beyond --max-memory is refused at once, naming
     CHECK(big.exitCode == 1);
     CHECK(big.err == "vfield simulate: " + scene +
                          ": /objects/0/mesh/terrain/cells: the scene needs about 14.5 GiB of memory, more than the limit "
-                         "(4.0 GiB); 128064002 triangles here take 14.3 GiB (raise the limit with --max-memory)\n");
+                         "(4.0 GiB); 128096000 triangles here take 14.3 GiB (raise the limit with --max-memory)\n");
     CHECK_FALSE(std::filesystem::exists(dir + "/out"));
     // Raised past the estimate, the same limit lets the shipped scene through.
     const Run shipped = vfieldCli("simulate " + scene + " -o " + dir + "/out --frames 1-1 --max-memory 512M --quiet", dir);

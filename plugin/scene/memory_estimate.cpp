@@ -25,7 +25,7 @@ std::pair<double, std::string> trianglesOf(const MeshSource& mesh)
     switch (mesh.kind) {
     case MeshSource::Kind::Terrain: {
         const double x = mesh.terrain.cellsX, z = mesh.terrain.cellsZ;
-        return {2.0 * x * z + 4.0 * (x + z) + 2.0, "terrain/cells"}; // the surface, its skirt and its base
+        return {2.0 * x * z + 6.0 * (x + z), "terrain/cells"}; // the surface, its skirts and its base
     }
     case MeshSource::Kind::Sphere:
         return {20.0 * std::pow(4.0, mesh.sphere.subdivisions), "sphere/subdivisions"};

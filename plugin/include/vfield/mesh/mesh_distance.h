@@ -12,6 +12,8 @@
 
 #include <openvdb/openvdb.h>
 
+#include <vector>
+
 namespace vfield {
 
 class MeshDistance {
