@@ -29,6 +29,13 @@ Mat4d Transform::matrix() const
     return m;
 }
 
+BBoxd Transform::worldBounds(const BBoxd& objectBox) const
+{
+    BBoxd box;
+    for (int corner = 0; corner < 8; ++corner) box.expand(worldFromObject(boxCorner(objectBox, corner)));
+    return box;
+}
+
 bool Transform::isIdentity() const { return translation == Vec3d(0.0) && scale == 1.0 && rotation.eq(Quatd::identity()); }
 
 void Transform::validate() const { requireNumber("scale", scale, 1e-9, 1e9); }

@@ -7,21 +7,6 @@
 
 namespace vfield {
 
-namespace {
-
-/// A box's world bounds under a pose, from its corners.
-BBoxd worldBounds(const BBoxd& local, const Transform& pose)
-{
-    BBoxd box;
-    for (int corner = 0; corner < 8; ++corner)
-        box.expand(
-            pose.worldFromObject(Vec3d(corner & 1 ? local.max()[0] : local.min()[0], corner & 2 ? local.max()[1] : local.min()[1],
-                                       corner & 4 ? local.max()[2] : local.min()[2])));
-    return box;
-}
-
-} // namespace
-
 ClearanceProbe::ClearanceProbe(const Simulator& simulator) : mSimulator(simulator)
 {
     for (std::size_t i = 0; i < simulator.objects().size(); ++i) {
@@ -99,7 +84,7 @@ double ClearanceProbe::surfaceToSurface(std::size_t from, const Surface& to) con
     const Transform& fromPose = mSimulator.objectStates()[from].pose;
     const Transform& toPose = mSimulator.objectStates()[to.object].pose;
     const MeshDistance& distance = *to.distance;
-    const BBoxd reach = worldBounds(distance.reach(), toPose);
+    const BBoxd reach = toPose.worldBounds(distance.reach());
     const double spacing = distance.voxelSize() * toPose.scale;
     const std::size_t n = object.mesh.triangleCount();
     std::vector<double> nearest(n, distance.exteriorBand() * toPose.scale);

@@ -162,12 +162,7 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
         mRepulsive.push_back(i);
         const double scale = object.spec->transform.scale;
         mFinestCell = std::min(mFinestCell, object.field->finestCellSize() * scale);
-        const BBoxd& root = object.field->bounds();
-        for (int corner = 0; corner < 8; ++corner) {
-            const Vec3d p(corner & 1 ? root.max()[0] : root.min()[0], corner & 2 ? root.max()[1] : root.min()[1],
-                          corner & 4 ? root.max()[2] : root.min()[2]);
-            domain.expand(object.spec->transform.worldFromObject(p));
-        }
+        domain.expand(object.spec->transform.worldBounds(object.field->bounds()));
     }
     if (!std::isfinite(mFinestCell)) mFinestCell = 1.0; // no fields: steps bounded by the unit length
 
@@ -302,8 +297,7 @@ void Simulator::measureFieldSpeeds(double t0, double t1)
         const BBoxd& root = mObjects[i].field->bounds();
         double travel = 0.0;
         for (int corner = 0; corner < 8; ++corner) {
-            const Vec3d c(corner & 1 ? root.max()[0] : root.min()[0], corner & 2 ? root.max()[1] : root.min()[1],
-                          corner & 4 ? root.max()[2] : root.min()[2]);
+            const Vec3d c = boxCorner(root, corner);
             travel = std::max(travel, (b.worldFromObject(c) - a.worldFromObject(c)).length());
         }
         mFieldSpeed[k] = travel / (t1 - t0);

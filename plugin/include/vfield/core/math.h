@@ -17,4 +17,11 @@ using Vec3ui = openvdb::math::Vec3ui;
 using BBoxd = openvdb::math::BBox<Vec3d>;
 using Mat4d = openvdb::math::Mat4d;
 
+/// Corner 0..7 of a box: bit 0 picks max x, bit 1 max y, bit 2 max z.
+inline Vec3d boxCorner(const BBoxd& box, int corner)
+{
+    return Vec3d(corner & 1 ? box.max()[0] : box.min()[0], corner & 2 ? box.max()[1] : box.min()[1],
+                 corner & 4 ? box.max()[2] : box.min()[2]);
+}
+
 } // namespace vfield

@@ -34,6 +34,8 @@ struct Transform {
     /// Directions rotate but do not scale or move.
     Vec3d rotateToWorld(const Vec3d& v) const { return rotate(rotation, v); }
     Vec3d rotateToObject(const Vec3d& v) const { return rotate(rotation.conjugate(), v); }
+    /// The world box around an object-space box, from its eight corners.
+    BBoxd worldBounds(const BBoxd& objectBox) const;
     /// The same map as an OpenVDB row-vector matrix (p * M).
     Mat4d matrix() const;
     bool isIdentity() const;
