@@ -2,6 +2,7 @@
 #include <vfield/volume/particle_grid.h>
 
 #include <openvdb/points/PointCount.h>
+#include <openvdb/tools/Interpolation.h>
 
 #include <catch2/catch.hpp>
 
@@ -20,6 +21,7 @@ ParticleSet randomParticles(std::size_t n, uint64_t seed)
         const auto u = [&random] { return float(double(random() >> 11) / double(1ull << 53)); };
         particles.position.emplace_back(20 * u(), 10 * u(), 20 * u());
         particles.velocity.emplace_back(1.0f, 2.0f, -3.0f);
+        particles.rest.push_back(particles.position.back());
         particles.id.push_back(uint32_t(i));
         particles.radius.push_back(0.5f);
         particles.cloud.push_back(0);
@@ -73,6 +75,72 @@ TEST_CASE("particle grid: every particle is stored with its attributes", "[volum
     CHECK(points->getName() == "particles");
     CHECK(openvdb::points::pointCount(points->tree()) == 5000);
     const auto& descriptor = points->tree().cbeginLeaf()->attributeSet().descriptor();
-    for (const char* name : {"P", "v", "id", "pscale"})
+    for (const char* name : {"P", "v", "rest", "id", "pscale"})
         CHECK(descriptor.find(name) != openvdb::points::AttributeSet::INVALID_POS);
+}
+
+namespace {
+
+VolumeOptions detailOptions()
+{
+    VolumeOptions options;
+    options.voxelSize = 0.5;
+    options.kernelRadius = 1.25;
+    options.detail.voxelSize = 0.25;
+    options.detail.frequency = 0.8;
+    options.detail.amplitude = 1.0;
+    return options;
+}
+
+/// The largest difference between a grid and another shifted by a whole number of voxels.
+double largestDifference(const openvdb::FloatGrid& a, const openvdb::FloatGrid& b, const openvdb::Coord& shift)
+{
+    double largest = 0.0;
+    const auto bAccessor = b.getConstAccessor();
+    for (auto it = a.cbeginValueOn(); it; ++it)
+        largest = std::max(largest, std::abs(double(*it) - double(bAccessor.getValue(it.getCoord() + shift))));
+    const auto aAccessor = a.getConstAccessor();
+    for (auto it = b.cbeginValueOn(); it; ++it)
+        largest = std::max(largest, std::abs(double(*it) - double(aAccessor.getValue(it.getCoord() - shift))));
+    return largest;
+}
+
+} // namespace
+
+TEST_CASE("density detail: a finer grid with structure the splat does not have", "[volume]")
+{
+    const ParticleSet particles = randomParticles(20000, 3);
+    VolumeOptions plain = detailOptions();
+    plain.detail.voxelSize = 0.0;
+    const DensityGrids coarse = splatParticles(particles, plain);
+    const DensityGrids detailed = splatParticles(particles, detailOptions());
+    CHECK(detailed.density->voxelSize()[0] == Approx(0.25));
+    CHECK(detailed.velocity->voxelSize()[0] == Approx(0.5));
+    CHECK(detailed.density->getName() == "density");
+    // The noise moves the density away from the splat's, inside and at the edges, both ways.
+    const openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> base(*coarse.density);
+    std::size_t raised = 0, lowered = 0, total = 0;
+    for (auto it = detailed.density->cbeginValueOn(); it; ++it, ++total) {
+        const double smooth = base.wsSample(detailed.density->transform().indexToWorld(it.getCoord()));
+        raised += *it > 1.1 * smooth;
+        lowered += *it < 0.9 * smooth;
+    }
+    CHECK(raised > total / 20);
+    CHECK(lowered > total / 10);
+}
+
+TEST_CASE("density detail travels with the material: moved particles keep their rest, the detail moves with them", "[volume]")
+{
+    ParticleSet particles = randomParticles(20000, 4);
+    const DensityGrids before = splatParticles(particles, detailOptions());
+    // Two splat voxels along x and one along z: whole voxels of both grids.
+    const Vec3f move(1.0f, 0.0f, 0.5f);
+    for (Vec3f& p : particles.position) p += move;
+    const DensityGrids moved = splatParticles(particles, detailOptions());
+    CHECK(largestDifference(*before.density, *moved.density, openvdb::Coord(4, 0, 2)) < 1e-4);
+
+    // Without rest positions the same move changes the detail: it would swim.
+    for (std::size_t i = 0; i < particles.size(); ++i) particles.rest[i] = particles.position[i];
+    const DensityGrids swum = splatParticles(particles, detailOptions());
+    CHECK(largestDifference(*before.density, *swum.density, openvdb::Coord(4, 0, 2)) > 0.05);
 }

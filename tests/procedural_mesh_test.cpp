@@ -1,7 +1,13 @@
 #include <vfield/core/error.h>
 #include <vfield/mesh/procedural.h>
 
+#include "test_meshes.h"
+
 #include <catch2/catch.hpp>
+
+#include <OpenImageIO/imagebuf.h>
+
+#include <algorithm>
 
 using namespace vfield;
 
@@ -76,4 +82,76 @@ TEST_CASE("procedural sphere and box: closed and outward with the right size", "
     CHECK(signedVolume(box) == Approx(24.0));
     CHECK_THROWS_AS(makeBox({{0, 0, 0}, {0, 1, 1}}), ValueError);
     CHECK_THROWS_AS(makeSphere({{0, 0, 0}, -1.0, 1}), ValueError);
+}
+
+TEST_CASE("procedural terrain: ridged mountains have sharper crests than fBm hills, and erosion flattens valley floors", "[mesh]")
+{
+    // Curvature across the grid: the second difference of the heights, at
+    // crests (local maxima along x) and in the lowest tenth of the ground.
+    const auto profile = [](TerrainStyle style, double erosion) {
+        TerrainOptions options;
+        options.style = style;
+        options.erosion = erosion;
+        options.amplitude = 40;
+        const int n = 400;
+        std::vector<double> h(n);
+        for (int i = 0; i < n; ++i) h[i] = terrainHeight(options, -100 + 200.0 * i / (n - 1), 13.0);
+        double crest = 0.0, lowSlope = 0.0;
+        int crests = 0, lows = 0;
+        const double lowest = *std::min_element(h.begin(), h.end()), highest = *std::max_element(h.begin(), h.end());
+        for (int i = 1; i + 1 < n; ++i) {
+            if (h[i] > h[i - 1] && h[i] >= h[i + 1]) {
+                crest += h[i - 1] + h[i + 1] - 2 * h[i];
+                ++crests;
+            }
+            if (h[i] < lowest + 0.1 * (highest - lowest)) {
+                lowSlope += std::abs(h[i + 1] - h[i - 1]);
+                ++lows;
+            }
+        }
+        return std::make_pair(crests ? crest / crests : 0.0, lows ? lowSlope / lows : 0.0);
+    };
+    const double hillCrest = profile(TerrainStyle::Fbm, 0.0).first;
+    const auto [ridgeCrest, ridgeLow] = profile(TerrainStyle::Ridged, 0.0);
+    const double erodedLow = profile(TerrainStyle::Ridged, 1.0).second;
+    CHECK(ridgeCrest < 1.5 * hillCrest); // more negative: sharper
+    CHECK(erodedLow < 0.7 * ridgeLow);
+}
+
+TEST_CASE("heightmap terrain: a 16-bit PNG's pixels become heights, corner to corner", "[mesh]")
+{
+    // 5 x 3 pixels, value = 1000 (x + 10 y): heights read back exactly, scaled.
+    const std::string path = test::scratchDir("heightmap") + "/ramp.png";
+    OIIO::ImageBuf image(OIIO::ImageSpec(5, 3, 1, OIIO::TypeDesc::UINT16));
+    for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 5; ++x) {
+            const float value = float(1000 * (x + 10 * y)) / 65535.0f;
+            image.setpixel(x, y, &value);
+        }
+    REQUIRE(image.write(path, OIIO::TypeDesc::UINT16));
+    HeightmapOptions options;
+    options.path = path;
+    options.sizeX = 40;
+    options.sizeZ = 20;
+    options.heightScale = 65.535; // a height of 1 per 1000 in the file
+    const TriangleMesh terrain = makeHeightmapTerrain(options);
+    CHECK(analyzeTopology(terrain).isClosed());
+    CHECK(signedVolume(terrain) > 0.0);
+    CHECK(terrain.triangleCount() == 2 * 4 * 2 + 6 * (4 + 2));
+    // Grid point (i, k) at i * 3 + k: x = -20 + 10 i, z = -10 + 10 k, height i + 10 k.
+    for (int i = 0; i < 5; ++i)
+        for (int k = 0; k < 3; ++k) {
+            const Vec3f p = terrain.points[std::size_t(i * 3 + k)];
+            CHECK(p[0] == Approx(-20 + 10 * i));
+            CHECK(p[2] == Approx(-10 + 10 * k));
+            CHECK(p[1] == Approx(i + 10 * k).margin(1e-3));
+        }
+    // Twice the cells: the points between pixels are interpolated.
+    options.cellsX = 8;
+    options.cellsZ = 4;
+    const TriangleMesh finer = makeHeightmapTerrain(options);
+    CHECK(finer.points[std::size_t(1 * 5 + 1)][1] == Approx(0.5 + 5).margin(1e-3));
+
+    options.path = path + ".missing.png";
+    CHECK_THROWS_WITH(makeHeightmapTerrain(options), Catch::Contains(options.path));
 }

@@ -35,6 +35,7 @@ RenderSettings medium(double extinction, double albedo, double anisotropy, doubl
     settings.medium.albedo = albedo;
     settings.medium.anisotropy = anisotropy;
     settings.integrator.volumeStep = step;
+    settings.integrator.multipleScattering.octaves = 1; // single scattering: what the analytic results describe
     return settings;
 }
 

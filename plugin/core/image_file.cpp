@@ -3,6 +3,8 @@
 #include <vfield/core/atomic_file.h>
 #include <vfield/core/error.h>
 
+#include <OpenImageIO/imageio.h>
+
 #include <algorithm>
 #include <vector>
 
@@ -27,6 +29,37 @@ void writeImage(const OIIO::ImageBuf& image, const std::string& path)
             throw FileError(path, "cannot write image: " + why);
         }
     });
+}
+
+ImagePlane readImagePlane(const std::string& path)
+{
+    auto input = OIIO::ImageInput::open(path);
+    if (!input) {
+        std::string why = OIIO::geterror();
+        std::replace(why.begin(), why.end(), '\n', ' ');
+        throw FileError(path, "cannot read image: " + why);
+    }
+    const OIIO::ImageSpec& spec = input->spec();
+    ImagePlane plane;
+    plane.width = spec.width;
+    plane.height = spec.height;
+    plane.values.resize(std::size_t(spec.width) * std::size_t(spec.height));
+    if (!input->read_image(0, 0, 0, 1, OIIO::TypeDesc::FLOAT, plane.values.data())) {
+        std::string why = input->geterror();
+        std::replace(why.begin(), why.end(), '\n', ' ');
+        throw FileError(path, "cannot read image: " + why);
+    }
+    return plane;
+}
+
+std::pair<int, int> imageResolution(const std::string& path)
+{
+    const auto input = OIIO::ImageInput::open(path);
+    if (!input) {
+        OIIO::geterror(); // clear it: the caller reads the file later and reports then
+        return {0, 0};
+    }
+    return {input->spec().width, input->spec().height};
 }
 
 } // namespace vfield

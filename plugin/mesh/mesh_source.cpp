@@ -16,6 +16,9 @@ void MeshSource::validate() const
     case Kind::Terrain:
         validatePart("terrain", terrain);
         break;
+    case Kind::Heightmap:
+        validatePart("heightmap", heightmap);
+        break;
     case Kind::Sphere:
         validatePart("sphere", sphere);
         break;
@@ -26,6 +29,17 @@ void MeshSource::validate() const
 }
 
 namespace {
+
+/// A heightfield's optional "cells": [cellsX, cellsZ].
+void readCells(JsonObject& o, int& cellsX, int& cellsZ)
+{
+    if (const auto cells = o.find("cells")) {
+        const std::vector<JsonValue> v = cells->asArray();
+        if (v.size() != 2) cells->fail("expected [cellsX, cellsZ]");
+        cellsX = v[0].asInt();
+        cellsZ = v[1].asInt();
+    }
+}
 
 /// The "terrain" object; its limits are TerrainOptions::validate's.
 TerrainOptions terrainOptionsFromJson(const JsonValue& json)
@@ -38,16 +52,18 @@ TerrainOptions terrainOptionsFromJson(const JsonValue& json)
         t.sizeX = v[0];
         t.sizeZ = v[1];
     }
-    if (const auto cells = o.find("cells")) {
-        const std::vector<JsonValue> v = cells->asArray();
-        if (v.size() != 2) cells->fail("expected [cellsX, cellsZ]");
-        t.cellsX = v[0].asInt();
-        t.cellsZ = v[1].asInt();
-    }
+    readCells(o, t.cellsX, t.cellsZ);
     t.amplitude = o.number("amplitude", t.amplitude);
     t.featureSize = o.number("featureSize", t.featureSize);
     t.octaves = o.integer("octaves", t.octaves);
     t.roughness = o.number("roughness", t.roughness);
+    if (const auto style = o.find("style")) {
+        const std::string name = style->asString();
+        if (name == "fbm") t.style = TerrainStyle::Fbm;
+        else if (name == "ridged") t.style = TerrainStyle::Ridged;
+        else style->fail("expected \"fbm\" or \"ridged\", got \"" + name + "\"");
+    }
+    t.erosion = o.number("erosion", t.erosion);
     t.baseThickness = o.number("baseThickness", t.baseThickness);
     if (const auto carves = o.find("carves")) {
         for (const JsonValue& item : carves->asArray()) {
@@ -82,6 +98,20 @@ MeshSource meshSourceFromJson(const JsonValue& json, const std::string& baseDir)
             source.terrain = terrainOptionsFromJson(*terrain);
             ++kinds;
         }
+        if (const auto heightmap = o.find("heightmap")) {
+            source.kind = MeshSource::Kind::Heightmap;
+            source.heightmap = readOptions<HeightmapOptions>(*heightmap, [&](JsonObject& h, HeightmapOptions& v) {
+                const std::filesystem::path path(h.at("file").asString());
+                v.path = path.is_absolute() ? path.string() : (std::filesystem::path(baseDir) / path).string();
+                const Vec2d size = h.at("size").asVec2();
+                v.sizeX = size[0];
+                v.sizeZ = size[1];
+                v.heightScale = h.number("heightScale", v.heightScale);
+                readCells(h, v.cellsX, v.cellsZ);
+                v.baseThickness = h.number("baseThickness", v.baseThickness);
+            });
+            ++kinds;
+        }
         if (const auto sphere = o.find("sphere")) {
             source.kind = MeshSource::Kind::Sphere;
             source.sphere = readOptions<SphereOptions>(*sphere, [](JsonObject& s, SphereOptions& v) {
@@ -99,7 +129,7 @@ MeshSource meshSourceFromJson(const JsonValue& json, const std::string& baseDir)
             });
             ++kinds;
         }
-        if (kinds != 1) json.fail("expected exactly one of \"file\", \"terrain\", \"sphere\", \"box\"");
+        if (kinds != 1) json.fail("expected exactly one of \"file\", \"terrain\", \"heightmap\", \"sphere\", \"box\"");
         source.tessellateEdge = o.number("tessellate", 0.0);
     });
 }
@@ -114,6 +144,9 @@ TriangleMesh makeMesh(const MeshSource& source, MeshLoadReport* report)
         break;
     case MeshSource::Kind::Terrain:
         mesh = makeTerrain(source.terrain);
+        break;
+    case MeshSource::Kind::Heightmap:
+        mesh = makeHeightmapTerrain(source.heightmap);
         break;
     case MeshSource::Kind::Sphere:
         mesh = makeSphere(source.sphere);

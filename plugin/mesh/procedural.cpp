@@ -1,5 +1,7 @@
 #include <vfield/mesh/procedural.h>
 
+#include <vfield/core/image_file.h>
+#include <vfield/core/noise.h>
 #include <vfield/core/options.h>
 
 #include <algorithm>
@@ -12,52 +14,6 @@
 namespace vfield {
 
 namespace {
-
-/// 2D gradient noise (Perlin's improved noise) with a seeded permutation.
-/// std::mt19937_64's output is fixed by the standard, so the terrain is the
-/// same on every platform; distributions are not, so none is used.
-class GradientNoise2D {
-public:
-    explicit GradientNoise2D(uint64_t seed)
-    {
-        std::mt19937_64 random(seed);
-        for (int i = 0; i < 256; ++i) mPermutation[i] = static_cast<uint8_t>(i);
-        for (int i = 255; i > 0; --i) std::swap(mPermutation[i], mPermutation[random() % uint64_t(i + 1)]);
-    }
-
-    /// Value in about [-1, 1], zero at integer lattice points.
-    double operator()(double x, double y) const
-    {
-        const double fx = std::floor(x), fy = std::floor(y);
-        const int ix = static_cast<int>(fx) & 255, iy = static_cast<int>(fy) & 255;
-        const double dx = x - fx, dy = y - fy;
-        const double u = fade(dx), v = fade(dy);
-        const double n00 = gradient(hash(ix, iy), dx, dy);
-        const double n10 = gradient(hash(ix + 1, iy), dx - 1, dy);
-        const double n01 = gradient(hash(ix, iy + 1), dx, dy - 1);
-        const double n11 = gradient(hash(ix + 1, iy + 1), dx - 1, dy - 1);
-        const double a = n00 + u * (n10 - n00), b = n01 + u * (n11 - n01);
-        return (a + v * (b - a)) * 1.41421356;
-    }
-
-private:
-    static double fade(double t) { return t * t * t * (t * (t * 6 - 15) + 10); }
-    int hash(int x, int y) const { return mPermutation[(mPermutation[x & 255] + y) & 255]; }
-    static double gradient(int h, double x, double y)
-    {
-        static constexpr double kDirections[8][2] = {{1, 0},
-                                                     {-1, 0},
-                                                     {0, 1},
-                                                     {0, -1},
-                                                     {0.7071067811865476, 0.7071067811865476},
-                                                     {-0.7071067811865476, 0.7071067811865476},
-                                                     {0.7071067811865476, -0.7071067811865476},
-                                                     {-0.7071067811865476, -0.7071067811865476}};
-        return kDirections[h & 7][0] * x + kDirections[h & 7][1] * y;
-    }
-
-    std::array<uint8_t, 256> mPermutation{};
-};
 
 Vec2d catmullRom(const Vec2d& p0, const Vec2d& p1, const Vec2d& p2, const Vec2d& p3, double t)
 {
@@ -124,6 +80,7 @@ void TerrainOptions::validate() const
     requireNumber("featureSize", featureSize, 1e-9, 1e12);
     requireInteger("octaves", octaves, 1, 16);
     requireNumber("roughness", roughness, 0.0, 1.0);
+    requireNumber("erosion", erosion, 0.0, 1.0);
     requireNumber("baseThickness", baseThickness, 1e-9, 1e12);
     for (std::size_t i = 0; i < carves.size(); ++i) validatePart("carves/" + std::to_string(i), carves[i]);
 }
@@ -151,16 +108,14 @@ public:
 
     double operator()(double x, double z) const
     {
-        // fBm normalised to about [0, 1].
-        double sum = 0, weight = 1, totalWeight = 0, frequency = 1.0 / mOptions.featureSize;
-        for (int octave = 0; octave < mOptions.octaves; ++octave) {
-            // Offset each octave so lattice zeros do not line up.
-            sum += weight * mNoise(x * frequency + 17.31 * octave, z * frequency - 9.73 * octave);
-            totalWeight += weight;
-            weight *= mOptions.roughness;
-            frequency *= 2.0;
-        }
-        double height = mOptions.amplitude * 0.5 * (1.0 + sum / totalWeight);
+        const FractalOptions fractal{mOptions.octaves, 2.0, mOptions.roughness};
+        const float u = float(x / mOptions.featureSize), v = float(z / mOptions.featureSize);
+        // Both styles about [0, 1]; the erosion curve then flattens the low
+        // ground into broad valley floors and keeps the crests sharp.
+        double unit = mOptions.style == TerrainStyle::Ridged ? double(ridgedMultifractal(mNoise, u, v, fractal))
+                                                             : 0.5 * (1.0 + double(fbm(mNoise, u, v, fractal)));
+        if (mOptions.erosion > 0.0) unit = std::pow(std::clamp(unit, 0.0, 1.0), 1.0 + 3.0 * mOptions.erosion);
+        double height = mOptions.amplitude * unit;
         for (std::size_t i = 0; i < mPaths.size(); ++i) {
             const TerrainCarve& carve = mOptions.carves[i];
             height -= carve.depth * carveProfile(distanceToPolyline(mPaths[i], Vec2d(x, z)), carve);
@@ -170,40 +125,34 @@ public:
 
 private:
     const TerrainOptions& mOptions;
-    GradientNoise2D mNoise;
+    GradientNoise mNoise;
     std::vector<std::vector<Vec2d>> mPaths;
 };
 
-} // namespace
-
-double terrainHeight(const TerrainOptions& options, double x, double z)
+/// A heightfield over a grid of points, closed into a solid: the surface,
+/// four vertical skirts and a bottom `baseThickness` below its lowest point.
+/// height(i, k) gives grid point (i, k)'s height, 0 <= i <= cellsX.
+template<typename Height>
+TriangleMesh heightfieldSolid(double sizeX, double sizeZ, int cellsX, int cellsZ, double baseThickness, const Height& height)
 {
-    options.validate();
-    return TerrainHeightField(options)(x, z);
-}
-
-TriangleMesh makeTerrain(const TerrainOptions& o)
-{
-    o.validate();
-    const TerrainHeightField height(o);
-    const int nx = o.cellsX + 1, nz = o.cellsZ + 1; // grid points per axis
+    const int nx = cellsX + 1, nz = cellsZ + 1; // grid points per axis
     const auto top = [nz](int i, int k) { return uint32_t(i * nz + k); };
 
     TriangleMesh mesh;
     mesh.points.resize(std::size_t(nx) * nz);
     double lowest = std::numeric_limits<double>::max();
     for (int i = 0; i < nx; ++i) {
-        const double x = -0.5 * o.sizeX + o.sizeX * i / o.cellsX;
+        const double x = -0.5 * sizeX + sizeX * i / cellsX;
         for (int k = 0; k < nz; ++k) {
-            const double z = -0.5 * o.sizeZ + o.sizeZ * k / o.cellsZ;
-            const double y = height(x, z);
+            const double z = -0.5 * sizeZ + sizeZ * k / cellsZ;
+            const double y = height(i, k, x, z);
             lowest = std::min(lowest, y);
             mesh.points[top(i, k)] = Vec3f(float(x), float(y), float(z));
         }
     }
     // Surface: (+z) x (+x) = +y, so (p00, p01, p11) faces up.
-    for (int i = 0; i < o.cellsX; ++i)
-        for (int k = 0; k < o.cellsZ; ++k) {
+    for (int i = 0; i < cellsX; ++i)
+        for (int k = 0; k < cellsZ; ++k) {
             mesh.triangles.emplace_back(top(i, k), top(i, k + 1), top(i + 1, k + 1));
             mesh.triangles.emplace_back(top(i, k), top(i + 1, k + 1), top(i + 1, k));
         }
@@ -211,13 +160,13 @@ TriangleMesh makeTerrain(const TerrainOptions& o)
     // Perimeter of the top grid: along the -z edge towards +x, the +x edge
     // towards +z, the +z edge towards -x, the -x edge towards -z.
     std::vector<uint32_t> rim;
-    for (int i = 0; i < o.cellsX; ++i) rim.push_back(top(i, 0));
-    for (int k = 0; k < o.cellsZ; ++k) rim.push_back(top(o.cellsX, k));
-    for (int i = o.cellsX; i > 0; --i) rim.push_back(top(i, o.cellsZ));
-    for (int k = o.cellsZ; k > 0; --k) rim.push_back(top(0, k));
+    for (int i = 0; i < cellsX; ++i) rim.push_back(top(i, 0));
+    for (int k = 0; k < cellsZ; ++k) rim.push_back(top(cellsX, k));
+    for (int i = cellsX; i > 0; --i) rim.push_back(top(i, cellsZ));
+    for (int k = cellsZ; k > 0; --k) rim.push_back(top(0, k));
 
     // Skirts down to the bottom plane, then the bottom as a fan from its centre.
-    const float bottomY = float(lowest - o.baseThickness);
+    const float bottomY = float(lowest - baseThickness);
     const auto firstBottom = uint32_t(mesh.points.size());
     for (uint32_t r : rim) mesh.points.emplace_back(mesh.points[r][0], bottomY, mesh.points[r][2]);
     const auto centre = uint32_t(mesh.points.size());
@@ -232,6 +181,54 @@ TriangleMesh makeTerrain(const TerrainOptions& o)
         mesh.triangles.emplace_back(centre, a0, b0);
     }
     return mesh;
+}
+
+} // namespace
+
+double terrainHeight(const TerrainOptions& options, double x, double z)
+{
+    options.validate();
+    return TerrainHeightField(options)(x, z);
+}
+
+TriangleMesh makeTerrain(const TerrainOptions& o)
+{
+    o.validate();
+    const TerrainHeightField height(o);
+    return heightfieldSolid(o.sizeX, o.sizeZ, o.cellsX, o.cellsZ, o.baseThickness,
+                            [&](int, int, double x, double z) { return height(x, z); });
+}
+
+void HeightmapOptions::validate() const
+{
+    require(!path.empty(), "file", "expected an image file");
+    requireNumber("size/0", sizeX, 1e-9, 1e12);
+    requireNumber("size/1", sizeZ, 1e-9, 1e12);
+    requireNumber("heightScale", heightScale, -1e9, 1e9);
+    requireInteger("cells/0", cellsX, 0, TerrainOptions::kMaxCellsPerAxis);
+    requireInteger("cells/1", cellsZ, 0, TerrainOptions::kMaxCellsPerAxis);
+    requireNumber("baseThickness", baseThickness, 1e-9, 1e12);
+}
+
+TriangleMesh makeHeightmapTerrain(const HeightmapOptions& o)
+{
+    o.validate();
+    const ImagePlane image = readImagePlane(o.path);
+    if (image.width < 2 || image.height < 2) throw FileError(o.path, "a heightmap needs at least 2 x 2 pixels");
+    const int cellsX = o.cellsX > 0 ? o.cellsX : image.width - 1;
+    const int cellsZ = o.cellsZ > 0 ? o.cellsZ : image.height - 1;
+    require(double(cellsX) * cellsZ <= TerrainOptions::kMaxCells, "cells", "expected at most 64 million cells in all");
+    // Pixel centres span the terrain corner to corner: image x along +x, rows
+    // down the image along +z (north up in a map seen from above, -z north).
+    const auto pixel = [&](int x, int y) { return double(image.values[std::size_t(y) * image.width + x]); };
+    return heightfieldSolid(o.sizeX, o.sizeZ, cellsX, cellsZ, o.baseThickness, [&](int i, int k, double, double) {
+        const double px = double(i) / cellsX * (image.width - 1), py = double(k) / cellsZ * (image.height - 1);
+        const int x0 = std::min(int(px), image.width - 2), y0 = std::min(int(py), image.height - 2);
+        const double fx = px - x0, fy = py - y0;
+        const double top = pixel(x0, y0) * (1 - fx) + pixel(x0 + 1, y0) * fx;
+        const double bottom = pixel(x0, y0 + 1) * (1 - fx) + pixel(x0 + 1, y0 + 1) * fx;
+        return o.heightScale * (top * (1 - fy) + bottom * fy);
+    });
 }
 
 TriangleMesh makeSphere(const SphereOptions& o)

@@ -12,7 +12,7 @@ namespace vfield {
 namespace {
 
 /// The light transmittance grids have about this many voxels along their longest side.
-constexpr double kLightGridResolution = 48.0;
+constexpr double kLightGridResolution = 64.0;
 
 } // namespace
 

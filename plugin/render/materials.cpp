@@ -1,5 +1,7 @@
 #include <vfield/render/materials.h>
 
+#include <vfield/core/noise.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -15,26 +17,79 @@ double smoothstep(double a, double b, double x)
 
 Vec3d lerp(const Vec3d& a, const Vec3d& b, double t) { return a + (b - a) * t; }
 
+/// The noise every terrain shares: the same rock streaks in every frame and back-end.
+const GradientNoise& terrainNoise()
+{
+    static const GradientNoise noise(20171);
+    return noise;
+}
+
+float noiseAt(const Vec3d& p, double frequency, int octaves)
+{
+    return fbm(terrainNoise(), Vec3f(p * frequency), FractalOptions{octaves, 2.0, 0.5});
+}
+
 } // namespace
 
 Vec3d surfaceAlbedo(SurfaceMaterial material, const Vec3d& position, const Vec3d& normal, double low, double high)
 {
     if (material == SurfaceMaterial::Painted) return Vec3d(0.62, 0.62, 0.66);
-    // Grass low and flat, rock where steep, snow high and flat.
-    const Vec3d grass(0.16, 0.26, 0.08), dryGrass(0.3, 0.3, 0.14), rock(0.32, 0.29, 0.26), snow(0.82, 0.84, 0.88);
-    const double height = high > low ? (position[1] - low) / (high - low) : 0.0;
-    Vec3d colour = lerp(grass, dryGrass, smoothstep(0.3, 0.7, height));
-    colour = lerp(colour, snow, smoothstep(0.9, 0.97, height) * smoothstep(0.6, 0.85, normal[1]));
-    return lerp(colour, rock, smoothstep(0.82, 0.65, normal[1]));
+    // Grass low and flat, rock where steep, snow high and flat; the borders
+    // between them wander with the noise, as do the colours within each.
+    const Vec3d grass(0.11, 0.2, 0.05), dryGrass(0.26, 0.24, 0.11), rock(0.24, 0.2, 0.16), darkRock(0.1, 0.09, 0.08),
+        snow(0.85, 0.87, 0.9);
+    const double broad = noiseAt(position, 1.0 / 40.0, 3), fine = noiseAt(position, 1.0 / 3.0, 3);
+    const double height = (high > low ? (position[1] - low) / (high - low) : 0.0) + 0.08 * broad;
+    const double slope = normal[1] + 0.12 * fine;
+    Vec3d colour = lerp(grass, dryGrass, smoothstep(0.25, 0.75, height + 0.25 * broad));
+    colour *= 0.8 + 0.4 * (0.5 + 0.5 * fine);
+    const Vec3d stone = lerp(darkRock, rock, 0.5 + 0.5 * noiseAt(position + Vec3d(0, 3.1 * position[1], 0), 1.0 / 6.0, 2));
+    colour = lerp(colour, stone, smoothstep(0.72, 0.55, slope));
+    return lerp(colour, snow, smoothstep(0.85, 0.95, height) * smoothstep(0.5, 0.75, slope));
+}
+
+Vec3d shadingNormal(SurfaceMaterial material, const Vec3d& position, const Vec3d& normal)
+{
+    if (material == SurfaceMaterial::Painted) return normal;
+    // Bumps a few units across: the noise's gradient, by central differences,
+    // tilts the normal, its part along the normal removed.
+    constexpr double kFrequency = 1.0 / 2.5, kStrength = 0.6, kDelta = 0.05;
+    Vec3d gradient;
+    for (int axis = 0; axis < 3; ++axis) {
+        Vec3d step(0.0);
+        step[axis] = kDelta;
+        gradient[axis] = (noiseAt(position + step, kFrequency, 2) - noiseAt(position - step, kFrequency, 2)) / (2.0 * kDelta);
+    }
+    gradient -= normal * gradient.dot(normal);
+    return (normal - gradient * (kStrength / kFrequency * 0.1)).unitSafe();
+}
+
+Vec3d skyDomeRadiance(const SkySettings& sky, const Vec3d& dir)
+{
+    // Horizon to zenith over the lower half of the sky; haze below the horizon.
+    return lerp(sky.horizonColor, sky.zenithColor, smoothstep(0.0, 0.5, dir[1])) * sky.intensity;
 }
 
 Vec3d skyRadiance(const RenderSettings& s, const Vec3d& dir)
 {
-    // Horizon to zenith over the lower half of the sky; haze below the horizon.
-    Vec3d sky = lerp(s.sky.horizonColor, s.sky.zenithColor, smoothstep(0.0, 0.5, dir[1])) * s.sky.intensity;
+    Vec3d sky = skyDomeRadiance(s.sky, dir);
     const double toSun = std::max(0.0, dir.dot(s.sun.direction.unitSafe()));
     sky += s.sun.color * (0.25 * std::pow(toSun, 64.0) + 20.0 * std::pow(toSun, 4096.0)) * s.sun.intensity;
     return sky;
+}
+
+Vec3d cloudAmbientRadiance(const SkySettings& sky, const Vec3d& below)
+{
+    // Over the upper hemisphere (uniform in y) smoothstep(0, 0.5, y) averages 3/4.
+    const Vec3d upper = lerp(sky.horizonColor, sky.zenithColor, 0.75) * sky.intensity;
+    return (upper + below) * 0.5;
+}
+
+Vec3d throughHaze(const SkySettings& sky, const Vec3d& radiance, double distance, double coverage)
+{
+    if (sky.hazeDistance <= 0.0) return radiance;
+    const double kept = std::exp(-distance / sky.hazeDistance);
+    return radiance * kept + sky.horizonColor * (sky.intensity * (1.0 - kept) * coverage);
 }
 
 Vec3d skyLightOnSurface(const SkySettings& sky, const Vec3d& normal)

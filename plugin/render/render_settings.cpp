@@ -2,6 +2,8 @@
 
 #include <vfield/core/options.h>
 
+#include <cmath>
+
 namespace vfield {
 
 namespace {
@@ -32,6 +34,7 @@ void SkySettings::validate() const
     requireColor("zenithColor", zenithColor);
     requireColor("horizonColor", horizonColor);
     requireNumber("intensity", intensity, 0.0, 1e6);
+    requireNumber("hazeDistance", hazeDistance, 0.0, 1e12);
 }
 
 void ImageSettings::validate() const
@@ -46,9 +49,37 @@ void MediumSettings::validate() const
     requireNumber("extinction", extinction, 0.0, 1e9);
     requireNumber("albedo", albedo, 0.0, 1.0);
     requireNumber("anisotropy", anisotropy, -0.99, 0.99);
+    requireNumber("backAnisotropy", backAnisotropy, -0.99, 0.99);
+    requireNumber("backWeight", backWeight, 0.0, 1.0);
 }
 
-void IntegratorSettings::validate() const { requireNumber("volumeStep", volumeStep, 1e-6, 1e9); }
+double MediumSettings::phase(double cosTheta) const
+{
+    const double forward = henyeyGreenstein(cosTheta, anisotropy);
+    return backWeight > 0.0 ? (1.0 - backWeight) * forward + backWeight * henyeyGreenstein(cosTheta, backAnisotropy) : forward;
+}
+
+double henyeyGreenstein(double cosTheta, double g)
+{
+    const double denominator = 1.0 + g * g - 2.0 * g * cosTheta;
+    return (1.0 - g * g) / (4.0 * M_PI * denominator * std::sqrt(denominator));
+}
+
+void MultipleScattering::validate() const
+{
+    requireInteger("octaves", octaves, 1, 8);
+    requireNumber("scatteringFalloff", scatteringFalloff, 0.0, 1.0);
+    requireNumber("extinctionFalloff", extinctionFalloff, 0.0, 1.0);
+    requireNumber("eccentricityFalloff", eccentricityFalloff, 0.0, 1.0);
+    requireNumber("skyScatteringFalloff", skyScatteringFalloff, 0.0, 1.0);
+}
+
+void IntegratorSettings::validate() const
+{
+    requireInteger("maxBounces", maxBounces, 1, 1000000);
+    requireNumber("volumeStep", volumeStep, 1e-6, 1e9);
+    validatePart("multipleScattering", multipleScattering);
+}
 
 void RenderSettings::validate() const
 {
@@ -91,6 +122,7 @@ SkySettings skySettingsFromJson(const JsonValue& json)
         s.zenithColor = o.vec3("zenithColor", s.zenithColor);
         s.horizonColor = o.vec3("horizonColor", s.horizonColor);
         s.intensity = o.number("intensity", s.intensity);
+        s.hazeDistance = o.number("hazeDistance", s.hazeDistance);
     });
 }
 
@@ -110,9 +142,26 @@ void renderSectionFromJson(const JsonValue& json, RenderSettings& settings)
     medium.extinction = o.number("extinction", medium.extinction);
     medium.albedo = o.number("albedo", medium.albedo);
     medium.anisotropy = o.number("anisotropy", medium.anisotropy);
+    medium.backAnisotropy = o.number("backAnisotropy", medium.backAnisotropy);
+    medium.backWeight = o.number("backWeight", medium.backWeight);
     IntegratorSettings& integrator = settings.integrator;
+    if (const auto kind = o.find("integrator")) {
+        const std::string name = kind->asString();
+        if (name == "fast") integrator.kind = IntegratorKind::Fast;
+        else if (name == "reference") integrator.kind = IntegratorKind::Reference;
+        else kind->fail("expected \"fast\" or \"reference\", got \"" + name + "\"");
+    }
+    integrator.maxBounces = o.integer("maxBounces", integrator.maxBounces);
     integrator.volumeStep = o.number("volumeStep", integrator.volumeStep);
     integrator.skipEmptySpace = o.boolean("skipEmptySpace", integrator.skipEmptySpace);
+    if (const auto octaves = o.find("multipleScattering"))
+        integrator.multipleScattering = readOptions<MultipleScattering>(*octaves, [](JsonObject& m, MultipleScattering& v) {
+            v.octaves = m.integer("octaves", v.octaves);
+            v.scatteringFalloff = m.number("scatteringFalloff", v.scatteringFalloff);
+            v.extinctionFalloff = m.number("extinctionFalloff", v.extinctionFalloff);
+            v.eccentricityFalloff = m.number("eccentricityFalloff", v.eccentricityFalloff);
+            v.skyScatteringFalloff = m.number("skyScatteringFalloff", v.skyScatteringFalloff);
+        });
     o.finish();
     validateAt(json, [&] {
         image.validate();

@@ -1,6 +1,7 @@
 #include <vfield/scene/memory_estimate.h>
 
 #include <vfield/core/error.h>
+#include <vfield/core/image_file.h>
 
 #include <algorithm>
 #include <cctype>
@@ -26,6 +27,12 @@ std::pair<double, std::string> trianglesOf(const MeshSource& mesh)
     case MeshSource::Kind::Terrain: {
         const double x = mesh.terrain.cellsX, z = mesh.terrain.cellsZ;
         return {2.0 * x * z + 6.0 * (x + z), "terrain/cells"}; // the surface, its skirts and its base
+    }
+    case MeshSource::Kind::Heightmap: {
+        const auto [width, height] = imageResolution(mesh.heightmap.path);
+        const double x = mesh.heightmap.cellsX > 0 ? mesh.heightmap.cellsX : std::max(width - 1, 0);
+        const double z = mesh.heightmap.cellsZ > 0 ? mesh.heightmap.cellsZ : std::max(height - 1, 0);
+        return {2.0 * x * z + 6.0 * (x + z), "heightmap/cells"};
     }
     case MeshSource::Kind::Sphere:
         return {20.0 * std::pow(4.0, mesh.sphere.subdivisions), "sphere/subdivisions"};

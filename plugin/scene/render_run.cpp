@@ -23,7 +23,8 @@ namespace {
 
 SurfaceMaterial materialOf(const ObjectSpec& object)
 {
-    return object.mesh.kind == MeshSource::Kind::Terrain ? SurfaceMaterial::Terrain : SurfaceMaterial::Painted;
+    const bool isGround = object.mesh.kind == MeshSource::Kind::Terrain || object.mesh.kind == MeshSource::Kind::Heightmap;
+    return isGround ? SurfaceMaterial::Terrain : SurfaceMaterial::Painted;
 }
 
 } // namespace

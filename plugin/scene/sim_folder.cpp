@@ -202,13 +202,21 @@ void add(ContentHash& h, const MeshSource& m)
     case MeshSource::Kind::Terrain: {
         const TerrainOptions& t = m.terrain;
         add(h, int64_t(t.seed));
-        for (const double v : {t.sizeX, t.sizeZ, t.amplitude, t.featureSize, t.roughness, t.baseThickness}) add(h, v);
-        for (const int v : {t.cellsX, t.cellsZ, t.octaves}) add(h, int64_t(v));
+        for (const double v : {t.sizeX, t.sizeZ, t.amplitude, t.featureSize, t.roughness, t.baseThickness, t.erosion}) add(h, v);
+        for (const int v : {t.cellsX, t.cellsZ, t.octaves, int(t.style)}) add(h, int64_t(v));
         for (const TerrainCarve& c : t.carves) {
             add(h, int64_t(c.path.size()));
             for (const Vec2d& p : c.path) add(h, Vec3d(p[0], p[1], 0.0));
             for (const double v : {c.halfWidth, c.depth, c.wallSharpness}) add(h, v);
         }
+        break;
+    }
+    case MeshSource::Kind::Heightmap: {
+        const HeightmapOptions& map = m.heightmap;
+        add(h, map.path);
+        add(h, readFile(map.path)); // an edited elevation model is another simulation
+        for (const double v : {map.sizeX, map.sizeZ, map.heightScale, map.baseThickness}) add(h, v);
+        for (const int v : {map.cellsX, map.cellsZ}) add(h, int64_t(v));
         break;
     }
     case MeshSource::Kind::Sphere:
@@ -269,7 +277,7 @@ void add(ContentHash& h, const UniformFieldSpec& f)
 
 // --- state.bin ----------------------------------------------------------------
 
-constexpr const char* kRunStateHeader = "vfield-run 4";
+constexpr const char* kRunStateHeader = "vfield-run 5";
 
 } // namespace
 
@@ -289,6 +297,9 @@ uint64_t simulationInputsHash(const SimulationSetup& setup, const VolumeOptions&
     add(h, setup.options.cfl);
     add(h, setup.options.domain);
     for (const double v : {volume.voxelSize, volume.kernelRadius, volume.densityPerParticle}) add(h, v);
+    const VolumeDetail& detail = volume.detail;
+    for (const double v : {detail.voxelSize, detail.frequency, detail.amplitude, detail.edgeSoftness}) add(h, v);
+    for (const int64_t v : {int64_t(detail.octaves), int64_t(detail.seed)}) add(h, v);
     return h.value();
 }
 

@@ -6,6 +6,7 @@ void ParticleSet::reserve(std::size_t n)
 {
     position.reserve(n);
     velocity.reserve(n);
+    rest.reserve(n);
     id.reserve(n);
     radius.reserve(n);
     cloud.reserve(n);
@@ -18,6 +19,7 @@ void ParticleSet::keep(const std::vector<uint8_t>& alive)
         if (!alive[i]) continue;
         position[kept] = position[i];
         velocity[kept] = velocity[i];
+        rest[kept] = rest[i];
         id[kept] = id[i];
         radius[kept] = radius[i];
         cloud[kept] = cloud[i];
@@ -25,6 +27,7 @@ void ParticleSet::keep(const std::vector<uint8_t>& alive)
     }
     position.resize(kept);
     velocity.resize(kept);
+    rest.resize(kept);
     id.resize(kept);
     radius.resize(kept);
     cloud.resize(kept);

@@ -175,6 +175,7 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
         for (int64_t k = 0; k < cloud.count; ++k) {
             mParticles.position.emplace_back(samplePointIn(cloud, random));
             mParticles.velocity.emplace_back(cloud.velocity);
+            mParticles.rest.push_back(mParticles.position.back());
             mParticles.id.push_back(nextId++);
             mParticles.radius.push_back(float(cloud.particleRadius));
             mParticles.cloud.push_back(uint16_t(c));
@@ -518,7 +519,7 @@ private:
     std::size_t mAt = 0;
 };
 
-constexpr uint64_t kStateMagic = 0x3174617473646676ull; // "vfdstat1"
+constexpr uint64_t kStateMagic = 0x3274617473646676ull; // "vfdstat2"
 
 } // namespace
 
@@ -539,6 +540,7 @@ std::string Simulator::serializeState() const
     }
     putVector(out, mParticles.position);
     putVector(out, mParticles.velocity);
+    putVector(out, mParticles.rest);
     putVector(out, mParticles.id);
     putVector(out, mParticles.radius);
     putVector(out, mParticles.cloud);
@@ -564,12 +566,13 @@ void Simulator::restoreState(const std::string& bytes)
     ParticleSet particles;
     in.getVector(particles.position);
     in.getVector(particles.velocity);
+    in.getVector(particles.rest);
     in.getVector(particles.id);
     in.getVector(particles.radius);
     in.getVector(particles.cloud);
     const std::size_t n = particles.size();
-    if (!in.atEnd() || particles.velocity.size() != n || particles.id.size() != n || particles.radius.size() != n ||
-        particles.cloud.size() != n)
+    if (!in.atEnd() || particles.velocity.size() != n || particles.rest.size() != n || particles.id.size() != n ||
+        particles.radius.size() != n || particles.cloud.size() != n)
         throw ValueError("the saved simulation state is inconsistent");
     for (const uint16_t c : particles.cloud)
         if (c >= mSetup.clouds.size()) throw ValueError("the saved state is of another scene (cloud index)");

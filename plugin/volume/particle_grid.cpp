@@ -21,6 +21,8 @@ openvdb::GridBase::Ptr makeParticleGrid(const ParticleSet& particles)
     points::PointDataTree& tree = grid->tree();
     points::appendAttribute<Vec3f>(tree, "v");
     points::populateAttribute(tree, index->tree(), "v", points::PointAttributeVector<Vec3f>(particles.velocity));
+    points::appendAttribute<Vec3f>(tree, "rest");
+    points::populateAttribute(tree, index->tree(), "rest", points::PointAttributeVector<Vec3f>(particles.rest));
     points::appendAttribute<int32_t>(tree, "id");
     points::populateAttribute(tree, index->tree(), "id", points::PointAttributeVector<int32_t>(ids));
     points::appendAttribute<float>(tree, "pscale");

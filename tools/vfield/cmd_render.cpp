@@ -21,7 +21,7 @@ namespace {
 struct RenderCliOptions {
     std::optional<FrameRange> frames;
     ImageOverrides image;
-    std::string formats = "png", backend = "embree";
+    std::string formats = "png", backend = "embree", integrator;
     int threads = 0, povrayThreads = 0;
     bool force = false, keepScene = false;
 };
@@ -41,6 +41,11 @@ void addRenderOptions(CLI::App& command, RenderCliOptions& o)
                     "POV-Ray's render threads; 1 makes its media noise reproducible [default: as --threads]")
         ->check(CLI::PositiveNumber);
     addImageOverrideOptions(command, o.image);
+    command
+        .add_option("--integrator", o.integrator,
+                    "vfield's renderer: fast (ray march, light grids, multiple scattering by octaves) or reference "
+                    "(an unbiased path tracer, slow and noisy: give it many --spp) [default: the scene's render.integrator]")
+        ->check(CLI::IsMember({"fast", "reference"}));
     command.add_option("--format", o.formats, "png, exr or png,exr")
         ->check(CLI::IsMember({"png", "exr", "png,exr", "exr,png"}))
         ->capture_default_str();
@@ -73,6 +78,8 @@ Scene sceneToRender(const SceneCliOptions& sceneOptions, const RenderCliOptions&
 {
     Scene scene = loadScene(sceneOptions);
     o.image.applyTo(scene.render.image);
+    if (!o.integrator.empty())
+        scene.render.integrator.kind = o.integrator == "reference" ? IntegratorKind::Reference : IntegratorKind::Fast;
     return scene;
 }
 

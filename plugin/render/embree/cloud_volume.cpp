@@ -6,6 +6,7 @@
 #include <tbb/enumerable_thread_specific.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace vfield {
@@ -19,12 +20,6 @@ struct CloudVolume::EmptySpaceSkipper {
     tbb::enumerable_thread_specific<Intersector> perThread; ///< copies share the master's tree
 };
 
-double henyeyGreenstein(double cosTheta, double g)
-{
-    const double denominator = 1.0 + g * g - 2.0 * g * cosTheta;
-    return (1.0 - g * g) / (4.0 * M_PI * denominator * std::sqrt(denominator));
-}
-
 namespace {
 
 double sampleDensity(openvdb::FloatGrid::ConstAccessor& accessor, const openvdb::math::Transform& transform, const Vec3d& p)
@@ -37,10 +32,30 @@ double sampleDensity(openvdb::FloatGrid::ConstAccessor& accessor, const openvdb:
 } // namespace
 
 CloudVolume::CloudVolume(const CloudLighting& lighting, const MediumSettings& medium, const IntegratorSettings& integrator)
-    : mLighting(lighting), mExtinction(medium.extinction), mAlbedo(medium.albedo), mAnisotropy(medium.anisotropy),
-      mStep(integrator.volumeStep)
+    : mLighting(lighting), mExtinction(medium.extinction), mAlbedo(medium.albedo), mStep(integrator.volumeStep)
 {
+    const MultipleScattering& ms = integrator.multipleScattering;
+    for (int i = 0; i < ms.octaves; ++i) {
+        Octave octave{std::pow(ms.scatteringFalloff, i), std::pow(ms.extinctionFalloff, i), std::pow(ms.skyScatteringFalloff, i),
+                      medium};
+        octave.medium.anisotropy *= std::pow(ms.eccentricityFalloff, i);
+        octave.medium.backAnisotropy *= std::pow(ms.eccentricityFalloff, i);
+        mOctaves.push_back(octave);
+    }
     if (!lighting.empty() && integrator.skipEmptySpace) mSkipper = std::make_shared<EmptySpaceSkipper>(lighting.density());
+}
+
+double CloudVolume::octaveSum(double transmittance) const
+{
+    double sum = transmittance;
+    for (const Octave& octave : mOctaves) sum += octave.scattering * (std::pow(transmittance, octave.extinction) - transmittance);
+    return sum;
+}
+
+double CloudVolume::surfaceSunTransmittance(const Vec3d& p) const
+{
+    const double transmittance = mLighting.sunTransmittance(p);
+    return transmittance >= 1.0 ? 1.0 : octaveSum(transmittance) / octaveSum(1.0);
 }
 
 CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, double tMin, double tMax, double jitter,
@@ -56,9 +71,14 @@ CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, d
     const openvdb::math::Transform& lightTransform = mLighting.sunInCloudGrid().transform(); // both grids share it
     // Sunlight travels along -toSun and leaves towards the origin along -dir:
     // the angle between the two is that between dir and toSun.
-    const double phase = henyeyGreenstein(dir.dot(mLighting.toSun()), mAnisotropy);
-    const Vec3d sunScatter = sunRadiance * phase;
+    std::array<double, 8> octavePhase{}; // MultipleScattering::octaves is at most 8
+    for (std::size_t i = 0; i < mOctaves.size(); ++i) octavePhase[i] = mOctaves[i].medium.phase(dir.dot(mLighting.toSun()));
 
+    double opacitySum = 0.0, weightedDistance = 0.0;
+    const auto finished = [&] {
+        if (opacitySum > 0.0) segment.distance = weightedDistance / opacitySum;
+        return segment;
+    };
     // Stratified: each step covers [t, t + dt) and samples it at a jittered point.
     const auto marchInterval = [&](double from, double to) {
         for (double t = from; t < to && segment.transmittance > 0.0; t += mStep) {
@@ -74,25 +94,39 @@ CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, d
             // In-scattered light of the step, integrated exactly for constant density:
             // (1 - e^(-sigma_t dt)) * albedo * source. The sky lights the cloud
             // through the cloud above it, so bases darken and tops stay bright.
-            const Vec3d source =
-                sunScatter * std::clamp(double(sunT), 0.0, 1.0) + skyRadiance * std::clamp(double(skyT), 0.0, 1.0);
-            segment.radiance += segment.transmittance * (1.0 - stepTransmittance) * mAlbedo * source;
+            // Octave 0 is single scattering, the light seen through T; octave
+            // i >= 1 adds a^i of the light the cloud took away, T^(b^i) - T
+            // (e^(b^i ln T) - T): nothing where the cloud is thin, more deep
+            // inside. The sky's light, diffuse already, takes its own a.
+            // A light blocked outright (T = 0: a surface in the way) stays dark in every octave.
+            const double logSun = std::log(std::min(double(sunT), 1.0)), logSky = std::log(std::min(double(skyT), 1.0));
+            double sunShare = octavePhase[0] * sunT, skyShare = skyT;
+            for (std::size_t i = 1; i < mOctaves.size(); ++i) {
+                const Octave& octave = mOctaves[i];
+                if (sunT > 0.0f) sunShare += octave.scattering * octavePhase[i] * (std::exp(octave.extinction * logSun) - sunT);
+                if (skyT > 0.0f) skyShare += octave.skyScattering * (std::exp(octave.extinction * logSky) - skyT);
+            }
+            const Vec3d source = sunRadiance * sunShare + skyRadiance * skyShare;
+            const double opacity = segment.transmittance * (1.0 - stepTransmittance);
+            segment.radiance += opacity * mAlbedo * source;
+            opacitySum += opacity;
+            weightedDistance += opacity * (t + jitter * dt);
             segment.transmittance *= stepTransmittance;
             if (segment.transmittance < 1e-3) segment.transmittance = 0.0;
         }
     };
     if (!mSkipper) {
         marchInterval(tMin, tMax);
-        return segment;
+        return finished();
     }
     // Only the spans of nodes that hold density; index-space times scale by the voxel size.
     EmptySpaceSkipper::Intersector& intersector = mSkipper->perThread.local();
     const double voxel = densityGrid.voxelSize()[0];
-    if (!intersector.setWorldRay(openvdb::math::Ray<double>(origin, dir, tMin, tMax))) return segment;
+    if (!intersector.setWorldRay(openvdb::math::Ray<double>(origin, dir, tMin, tMax))) return finished();
     double t0 = 0.0, t1 = 0.0;
     while (segment.transmittance > 0.0 && intersector.march(t0, t1))
         marchInterval(std::max(tMin, t0 * voxel), std::min(tMax, t1 * voxel));
-    return segment;
+    return finished();
 }
 
 } // namespace vfield

@@ -1,5 +1,8 @@
 #include <vfield/render/embree/renderer.h>
 
+#include <vfield/render/embree/path_tracer.h>
+#include <vfield/render/embree/sample_random.h>
+
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 
@@ -9,39 +12,61 @@
 
 namespace vfield {
 
+SurfaceShading surfaceShading(const FrameToRender& frame, const SurfaceHit& hit)
+{
+    const auto material = frame.materials.find(hit.object);
+    const SurfaceMaterial kind = material != frame.materials.end() ? material->second : SurfaceMaterial::Painted;
+    const Vec3d normal = shadingNormal(kind, hit.position, hit.normal);
+    return {normal, surfaceAlbedo(kind, hit.position, normal, frame.terrainLow, frame.terrainHigh)};
+}
+
 namespace {
 
-/// A counter-based random stream: each (frame, pixel, sample) has its own,
-/// whatever thread draws it (PCG-style hashing of the counter).
-class SampleRandom {
-public:
-    SampleRandom(uint32_t frame, uint32_t pixel, uint32_t sample)
-        : mState(hash(hash(hash(frame) ^ pixel) ^ (uint64_t(sample) << 32)))
-    {}
-    double next() { return double(hash(mState++) >> 11) * (1.0 / 9007199254740992.0); }
-
-private:
-    static uint64_t hash(uint64_t x)
-    {
-        x ^= x >> 33;
-        x *= 0xff51afd7ed558ccdull;
-        x ^= x >> 33;
-        x *= 0xc4ceb9fe1a85ec53ull;
-        x ^= x >> 33;
-        return x;
-    }
-    uint64_t mState;
-};
-
-} // namespace
-
-RenderImage renderFrame(const FrameToRender& f)
+/// The light a surface point sends back as the fast integrator sees it: the
+/// sun (shadowed by surfaces, softened through the cloud) and the sky.
+Vec3d directlyLitSurface(const FrameToRender& f, const SurfaceHit& hit)
 {
     const RenderSettings& s = *f.settings;
-    const Vec3d toSun = s.sun.direction.unitSafe();
+    const Vec3d toSun = s.sun.direction.unitSafe(), sunRadiance = s.sun.color * s.sun.intensity;
+    const SurfaceShading surface = surfaceShading(f, hit);
+    const Vec3d offset = hit.position + hit.geometricNormal * 1e-3 * (1.0 + hit.distance);
+    double sun = std::max(0.0, surface.normal.dot(toSun));
+    if (sun > 0 && f.surfaces->occluded(offset, toSun, 0.0, std::numeric_limits<double>::max())) sun = 0.0;
+    if (sun > 0 && f.volume) sun *= f.volume->surfaceSunTransmittance(offset);
+    const Vec3d light = sunRadiance * (sun / M_PI) + skyLightOnSurface(s.sky, surface.normal);
+    return surface.albedo * light;
+}
+
+/// The mean radiance the surfaces under the cloud send up into it (lit by the
+/// sun, through the cloud, and by the sky), from rays cast straight down from
+/// a 16 x 16 grid over its box; the sky's horizon where there is no ground.
+/// The fast integrator's bounce light: the reference finds cloud bases lit by
+/// the ground as brightly as by the sky.
+Vec3d groundRadianceBelow(const FrameToRender& f)
+{
+    const RenderSettings& s = *f.settings;
+    if (!f.volume || f.volume->empty()) return Vec3d(0.0);
+    const BBoxd& box = f.volume->lighting().bounds();
+    constexpr int kRays = 16;
+    Vec3d sum(0.0);
+    for (int i = 0; i < kRays; ++i)
+        for (int k = 0; k < kRays; ++k) {
+            const Vec3d from(box.min()[0] + (i + 0.5) / kRays * (box.max()[0] - box.min()[0]), box.max()[1],
+                             box.min()[2] + (k + 0.5) / kRays * (box.max()[2] - box.min()[2]));
+            SurfaceHit hit;
+            const bool ground = f.surfaces->intersect(from, Vec3d(0, -1, 0), 0.0, std::numeric_limits<double>::max(), hit);
+            sum += ground ? directlyLitSurface(f, hit) : s.sky.horizonColor * s.sky.intensity;
+        }
+    return sum / double(kRays * kRays);
+}
+
+/// IntegratorKind::Fast: surfaces lit directly by the sun and the sky; the
+/// cloud ray-marched in front of them (CloudVolume).
+RenderImage renderFast(const FrameToRender& f)
+{
+    const RenderSettings& s = *f.settings;
     const Vec3d sunRadiance = s.sun.color * s.sun.intensity;
-    // What the sky gives a cloud from all around: its mean radiance.
-    const Vec3d skyAmbient = (s.sky.zenithColor + s.sky.horizonColor) * (0.5 * s.sky.intensity);
+    const Vec3d skyAmbient = cloudAmbientRadiance(s.sky, groundRadianceBelow(f));
 
     const int width = s.image.width, height = s.image.height, samplesPerPixel = s.image.samplesPerPixel;
     RenderImage image;
@@ -49,19 +74,6 @@ RenderImage renderFrame(const FrameToRender& f)
     image.height = height;
     image.rgba.assign(std::size_t(width) * height * 4, 0.0f);
     image.depth.assign(std::size_t(width) * height, std::numeric_limits<float>::infinity());
-
-    const auto shadeSurface = [&](const SurfaceHit& hit) {
-        const auto material = f.materials.find(hit.object);
-        const bool isTerrain = material != f.materials.end() && material->second == SurfaceMaterial::Terrain;
-        const Vec3d albedo = surfaceAlbedo(isTerrain ? SurfaceMaterial::Terrain : SurfaceMaterial::Painted, hit.position,
-                                           hit.normal, f.terrainLow, f.terrainHigh);
-        const Vec3d offset = hit.position + hit.geometricNormal * 1e-3 * (1.0 + hit.distance);
-        double sun = std::max(0.0, hit.normal.dot(toSun));
-        if (sun > 0 && f.surfaces->occluded(offset, toSun, 0.0, std::numeric_limits<double>::max())) sun = 0.0;
-        if (sun > 0 && f.volume) sun *= f.volume->lighting().sunTransmittance(offset);
-        const Vec3d light = sunRadiance * (sun / M_PI) + skyLightOnSurface(s.sky, hit.normal);
-        return Vec3d(albedo[0] * light[0], albedo[1] * light[1], albedo[2] * light[2]);
-    };
 
     const int tile = 16;
     tbb::parallel_for(tbb::blocked_range2d<int>(0, height, tile, 0, width, tile), [&](const tbb::blocked_range2d<int>& r) {
@@ -83,13 +95,16 @@ RenderImage renderFrame(const FrameToRender& f)
                     // Premultiplied: a drawn sky is an opaque background; a
                     // transparent one adds neither light nor coverage.
                     const bool drawSky = !s.image.transparentSky;
-                    Vec3d radiance = isSurface ? shadeSurface(hit) : drawSky ? skyRadiance(s, dir) : Vec3d(0.0);
+                    Vec3d radiance = isSurface ? throughHaze(s.sky, directlyLitSurface(f, hit), hit.distance)
+                                     : drawSky ? skyRadiance(s, dir)
+                                               : Vec3d(0.0);
                     double opacity = isSurface || drawSky ? 1.0 : 0.0;
                     if (f.volume) {
                         const CloudVolume::Segment cloud =
                             f.volume->march(f.camera.position(), dir, 0.0, isSurface ? hit.distance : 1e30, random.next(),
                                             sunRadiance, skyAmbient);
-                        radiance = cloud.radiance + radiance * cloud.transmittance;
+                        radiance = throughHaze(s.sky, cloud.radiance, cloud.distance, 1.0 - cloud.transmittance) +
+                                   radiance * cloud.transmittance;
                         opacity = 1.0 - (1.0 - opacity) * cloud.transmittance;
                     }
                     colour += radiance;
@@ -106,6 +121,13 @@ RenderImage renderFrame(const FrameToRender& f)
             }
     });
     return image;
+}
+
+} // namespace
+
+RenderImage renderFrame(const FrameToRender& frame)
+{
+    return frame.settings->integrator.kind == IntegratorKind::Reference ? renderReference(frame) : renderFast(frame);
 }
 
 } // namespace vfield

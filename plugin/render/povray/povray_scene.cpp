@@ -141,7 +141,9 @@ std::string povrayFrameText(const PovrayFrame& f)
         // POV-Ray's phase functions average 1 over the sphere (vfield's integrate
         // to 1: a factor 4 pi) and its lights carry 1/pi: the scattering colour is
         // sigma_s / 4, and `extinction 4` keeps its share of the extinction sigma_s.
-        const Vec3d skyMean = (s.sky.zenithColor + s.sky.horizonColor) * (0.5 * s.sky.intensity);
+        // The sky's light as vfield's fast integrator takes it, without the
+        // ground's bounce (the export knows no surface radiance).
+        const Vec3d skyMean = cloudAmbientRadiance(s.sky, s.sky.horizonColor * s.sky.intensity);
         const BBoxd& box = cloud.placement.worldBounds;
         const Vec3d size = box.extents();
         const int samples = std::clamp(int(std::ceil(size.length() / std::max(1e-6, s.integrator.volumeStep))), 8, 400);

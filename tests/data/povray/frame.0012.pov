@@ -53,7 +53,7 @@ box { <0, 0, 0>, <1, 1, 1>
     }
     media {
       method 3 intervals 1 samples 26
-      emission rgb <0.603, 0.864, 1.485>
+      emission rgb <0.69975, 0.954, 1.51875>
       scattering { 5, rgb 0 eccentricity 0.3 }
       density { density_file df3 "sky_lit.0012.df3" interpolate 1 }
     }

@@ -13,10 +13,11 @@
 namespace vfield {
 
 struct MeshSource {
-    enum class Kind { File, Terrain, Sphere, Box };
+    enum class Kind { File, Terrain, Sphere, Box, Heightmap };
     Kind kind = Kind::Box;
     std::string path; ///< Kind::File: the mesh file (resolved against the scene's folder)
     TerrainOptions terrain;
+    HeightmapOptions heightmap;
     SphereOptions sphere;
     BoxOptions box;
     double tessellateEdge = 0.0; ///< split edges longer than this, object units (0..1e12); 0: off
@@ -26,7 +27,7 @@ struct MeshSource {
     void validate() const;
 };
 
-/// {"file": "meshes/plane.obj"} | {"terrain": {...}} | {"sphere": {...}} | {"box": {...}},
+/// {"file": "meshes/plane.obj"} | {"terrain": {...}} | {"heightmap": {...}} | {"sphere": {...}} | {"box": {...}},
 /// each with an optional "tessellate": edge length. Relative paths are
 /// resolved against baseDir.
 MeshSource meshSourceFromJson(const JsonValue& json, const std::string& baseDir);

@@ -7,6 +7,7 @@
 #include <vfield/mesh/triangle_mesh.h>
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace vfield {
@@ -24,23 +25,34 @@ struct TerrainCarve {
     void validate() const;
 };
 
+/// The noise a terrain's heights come from.
+enum class TerrainStyle {
+    Fbm,   ///< rolling hills: fractional Brownian motion
+    Ridged ///< mountains: Musgrave's ridged multifractal, sharp crests and smooth valleys
+};
+
 /// A heightfield over [-sizeX/2, sizeX/2] x [-sizeZ/2, sizeZ/2], heights along +y.
-/// height(x, z) = amplitude * fbm(x / featureSize, z / featureSize) - carves.
+/// height(x, z) = amplitude * erode(noise(x / featureSize, z / featureSize)) - carves,
+/// with the noise in about [0, 1] and erode(n) = n^(1 + 3 erosion), which widens
+/// and flattens the valley floors as erosion's deposits would (a height curve,
+/// not a simulation of water).
 /// The solid is the surface, four vertical skirts and a bottom plane
 /// `baseThickness` below the lowest surface point.
 struct TerrainOptions {
     static constexpr int kMaxCellsPerAxis = 8192;
     static constexpr double kMaxCells = 64e6; ///< in all: cellsX x cellsZ
 
-    uint64_t seed = 1;                ///< noise seed; the same seed gives the same terrain on every machine
-    double sizeX = 200.0;             ///< extent along x, world units (1e-9..1e12)
-    double sizeZ = 200.0;             ///< extent along z, world units (1e-9..1e12)
-    int cellsX = 128;                 ///< grid cells along x (1..kMaxCellsPerAxis); the surface has 2 * cellsX * cellsZ triangles
-    int cellsZ = 128;                 ///< grid cells along z (1..kMaxCellsPerAxis), at most kMaxCells in all
-    double amplitude = 30.0;          ///< height of the noise, world units (0..1e9); heights span about [0, amplitude]
-    double featureSize = 80.0;        ///< wavelength of the coarsest noise octave, world units (1e-9..1e12)
-    int octaves = 5;                  ///< noise octaves (1..16)
-    double roughness = 0.5;           ///< amplitude ratio of successive octaves (0..1)
+    uint64_t seed = 1;         ///< noise seed; the same seed gives the same terrain on every machine
+    double sizeX = 200.0;      ///< extent along x, world units (1e-9..1e12)
+    double sizeZ = 200.0;      ///< extent along z, world units (1e-9..1e12)
+    int cellsX = 128;          ///< grid cells along x (1..kMaxCellsPerAxis); the surface has 2 * cellsX * cellsZ triangles
+    int cellsZ = 128;          ///< grid cells along z (1..kMaxCellsPerAxis), at most kMaxCells in all
+    double amplitude = 30.0;   ///< height of the noise, world units (0..1e9); heights span about [0, amplitude]
+    double featureSize = 80.0; ///< wavelength of the coarsest noise octave, world units (1e-9..1e12)
+    int octaves = 5;           ///< noise octaves (1..16)
+    double roughness = 0.5;    ///< amplitude ratio of successive octaves (0..1)
+    TerrainStyle style = TerrainStyle::Fbm;
+    double erosion = 0.0;             ///< valley flattening (0..1); 0 leaves the noise as it is
     double baseThickness = 10.0;      ///< depth of the solid below the lowest surface point, world units (1e-9..1e12)
     std::vector<TerrainCarve> carves; ///< valleys, canyons and ridges, applied in order
 
@@ -52,6 +64,24 @@ struct TerrainOptions {
 /// The surface height at (x, z): the same function the mesh samples.
 double terrainHeight(const TerrainOptions& options, double x, double z);
 TriangleMesh makeTerrain(const TerrainOptions& options);
+
+/// A terrain from an elevation image (a 16-bit PNG, TIFF or EXR; first
+/// channel), closed into a solid as makeTerrain's. The image spans
+/// [-sizeX/2, sizeX/2] x [-sizeZ/2, sizeZ/2] corner pixel to corner pixel,
+/// its rows along +z; heights are heightScale x the pixel value (integer
+/// formats read as [0, 1]), sampled bilinearly at the grid's points.
+struct HeightmapOptions {
+    std::string path;            ///< the image (a scene file's path is resolved against its folder)
+    double sizeX = 200.0;        ///< extent along x, world units (1e-9..1e12)
+    double sizeZ = 200.0;        ///< extent along z, world units (1e-9..1e12)
+    double heightScale = 50.0;   ///< world units per unit of pixel value (-1e9..1e9)
+    int cellsX = 0;              ///< grid cells along x (0..8192); 0: one per pixel
+    int cellsZ = 0;              ///< grid cells along z (0..8192); 0: one per pixel
+    double baseThickness = 10.0; ///< depth of the solid below its lowest point, world units (1e-9..1e12)
+
+    void validate() const;
+};
+TriangleMesh makeHeightmapTerrain(const HeightmapOptions& options);
 
 struct SphereOptions {
     Vec3d center{0.0, 0.0, 0.0}; ///< world units

@@ -14,6 +14,9 @@ namespace vfield {
 struct ParticleSet {
     std::vector<Vec3f> position; ///< world units
     std::vector<Vec3f> velocity; ///< world units / s
+    /// Where the particle was emitted (world units): the material coordinate
+    /// that detail is drawn at, so that detail travels with the cloud.
+    std::vector<Vec3f> rest;
     std::vector<uint32_t> id;    ///< unique for the whole sequence
     std::vector<float> radius;   ///< world units (pscale)
     std::vector<uint16_t> cloud; ///< index of the cloud it came from

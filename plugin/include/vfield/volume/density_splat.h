@@ -3,6 +3,11 @@
 /// ParticleSet (world space) -> FloatGrid `density` and Vec3SGrid `vel`
 /// (world space, the names Houdini and Blender expect).
 ///
+/// With detail (VolumeDetail), the density is resampled on a finer grid and
+/// shaped by fractal noise drawn at each point's interpolated rest position
+/// (where its particles were emitted), so the detail is attached to the
+/// material: it travels and deforms with the cloud instead of swimming through it.
+///
 /// Each particle spreads densityPerParticle over a smooth kernel of radius R,
 /// W(r) = 315 / (64 pi R^3) (1 - r^2/R^2)^3, which integrates to 1: the grid's
 /// integral is particles x densityPerParticle, and a particle's contribution
@@ -17,12 +22,31 @@
 
 namespace vfield {
 
+/// Noise detail finer than the particles, eroding and billowing the cloud:
+///   density' = density x max(0, 1 + amplitude g / 2) x smoothstep(0, 1, density / edgeSoftness + amplitude g)
+/// with g = fbm(frequency x rest) in about [-1, 1]: deep inside, the noise
+/// billows the density by up to half the amplitude; at the edges (density near
+/// edgeSoftness and below) it decides what is kept, so edges turn to wisps.
+struct VolumeDetail {
+    double voxelSize =
+        0.0; ///< detail voxel size, world units (0..1e9); 0: no detail. Rounded so that it divides the splat's voxel
+    double frequency = 0.3;    ///< of the coarsest octave, 1 / world units of rest position (1e-9..1e9)
+    int octaves = 4;           ///< (1..10)
+    double amplitude = 0.8;    ///< (0..4)
+    double edgeSoftness = 0.0; ///< density units (0..1e12); 0: the peak density of one lone particle
+    uint64_t seed = 1;         ///< noise seed
+
+    bool enabled() const { return voxelSize > 0.0; }
+    void validate() const;
+};
+
 struct VolumeOptions {
     static constexpr double kMaxKernelVoxels = 32.0; ///< the kernel's radius spans at most this many voxels
 
     double voxelSize = 0.0;          ///< world units (0..1e9); 0: the particles' mean radius
     double kernelRadius = 0.0;       ///< world units (0..1e9); 0: 2 x the particles' mean radius; at least one voxel
     double densityPerParticle = 1.0; ///< density integral of one particle (0..1e12; extinction is density x sigma)
+    VolumeDetail detail;
 
     /// Throws OptionError naming the first option out of range, or a kernel
     /// spanning more than kMaxKernelVoxels voxels.
@@ -40,7 +64,9 @@ struct DensityGrids {
 };
 
 /// Splats with options.resolved(mean radius of the particles). Throws
-/// OptionError if the voxel size would make an absurd kernel.
+/// OptionError if the voxel size would make an absurd kernel. particles.rest
+/// may be empty: positions then stand in for it. With detail, `density` is
+/// the detailed grid (detail.voxelSize) and `vel` stays at the splat's voxel size.
 DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& options);
 
 } // namespace vfield

@@ -1,7 +1,8 @@
 #pragma once
 /// @file particle_grid.h
 /// ParticleSet (world space) -> OpenVDB PointDataGrid `particles` with the
-/// attributes P, v (world units / s), id (int32) and pscale (radius, world units).
+/// attributes P, v (world units / s), rest (where the particle was emitted,
+/// Houdini's name for a material coordinate), id (int32) and pscale (radius, world units).
 
 #include <vfield/sim/particles.h>
 

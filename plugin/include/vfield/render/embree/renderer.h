@@ -5,6 +5,9 @@
 /// surfaces and by the cloud) and the sky; the cloud is composited between
 /// the camera and the first surface, so it sits correctly in front of or behind hills.
 ///
+/// Two integrators (IntegratorKind): the fast one, and a reference path
+/// tracer (path_tracer.h) that the fast one is measured against.
+///
 /// Every sample's random numbers come from a counter-based generator keyed by
 /// (frame, pixel, sample), so images are identical for any thread count.
 
@@ -28,6 +31,15 @@ struct FrameToRender {
     double terrainLow = 0.0, terrainHigh = 1.0;                          ///< heights for the terrain's colours
 };
 
+/// Renders with the settings' integrator (IntegratorSettings::kind).
 RenderImage renderFrame(const FrameToRender& frame);
+
+/// A surface point as every integrator shades it: the normal to shade with
+/// and its diffuse albedo, from its object's material.
+struct SurfaceShading {
+    Vec3d normal;
+    Vec3d albedo;
+};
+SurfaceShading surfaceShading(const FrameToRender& frame, const SurfaceHit& hit);
 
 } // namespace vfield

@@ -1,0 +1,45 @@
+#pragma once
+/// @file noise.h
+/// Seeded gradient noise (Perlin's improved noise) in 2D and 3D, and the
+/// fractal sums built from it: fBm and ridged multifractal. The terrain, the
+/// cloud's detail and the surfaces' shading all draw from it. The permutation
+/// comes from std::mt19937_64, whose output the standard fixes, so a seed
+/// gives the same values on every machine.
+
+#include <vfield/core/math.h>
+
+#include <array>
+#include <cstdint>
+
+namespace vfield {
+
+class GradientNoise {
+public:
+    explicit GradientNoise(uint64_t seed);
+
+    /// Values in about [-1, 1], zero at integer lattice points; period 256.
+    float operator()(float x, float y) const;
+    float operator()(float x, float y, float z) const;
+
+private:
+    int hash(int x) const { return mPermutation[x & 255]; }
+    std::array<uint8_t, 256> mPermutation{};
+};
+
+/// How octaves of noise add up.
+struct FractalOptions {
+    int octaves = 4;         ///< (1..16)
+    double lacunarity = 2.0; ///< frequency ratio of successive octaves
+    double gain = 0.5;       ///< amplitude ratio of successive octaves (0..1)
+};
+
+/// Fractional Brownian motion: the sum of octaves, normalised to about [-1, 1].
+float fbm(const GradientNoise& noise, const Vec3f& p, const FractalOptions& options);
+float fbm(const GradientNoise& noise, float x, float y, const FractalOptions& options);
+
+/// Musgrave's ridged multifractal in 2D, about [0, 1]: sharp crests where the
+/// noise crosses zero, each octave weighted by the one before, so crests carry
+/// detail and the valleys between them stay smooth.
+float ridgedMultifractal(const GradientNoise& noise, float x, float y, const FractalOptions& options);
+
+} // namespace vfield

@@ -1,0 +1,199 @@
+#include <vfield/render/embree/path_tracer.h>
+
+#include <vfield/render/embree/sample_random.h>
+
+#include <openvdb/tools/Interpolation.h>
+#include <openvdb/tools/Statistics.h>
+
+#include <tbb/blocked_range2d.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+
+namespace vfield {
+
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+/// A unit vector at angle acos(cosTheta) from unit axis, turned by 2 pi u about it.
+Vec3d aroundAxis(const Vec3d& axis, double cosTheta, double u)
+{
+    const Vec3d helper = std::abs(axis[0]) < 0.9 ? Vec3d(1, 0, 0) : Vec3d(0, 1, 0);
+    const Vec3d tangent = axis.cross(helper).unitSafe(), bitangent = axis.cross(tangent);
+    const double sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta)), phi = 2.0 * M_PI * u;
+    return (tangent * (sinTheta * std::cos(phi)) + bitangent * (sinTheta * std::sin(phi)) + axis * cosTheta).unitSafe();
+}
+
+/// The cosine between the directions of propagation before and after
+/// scattering, drawn from Henyey-Greenstein with eccentricity g.
+double sampleHenyeyGreenstein(double g, double u)
+{
+    if (std::abs(g) < 1e-3) return 1.0 - 2.0 * u;
+    const double s = (1.0 - g * g) / (1.0 - g + 2.0 * g * u);
+    return std::clamp((1.0 + g * g - s * s) / (2.0 * g), -1.0, 1.0);
+}
+
+/// The cloud as a path sees it, read through one thread's accessor.
+class Medium {
+public:
+    Medium(const CloudVolume* volume, const MediumSettings& settings) : mExtinction(settings.extinction)
+    {
+        if (!volume || volume->empty()) return;
+        mLighting = &volume->lighting();
+        const openvdb::math::MinMax<float> range = openvdb::tools::minMax(mLighting->density().tree());
+        mMajorant = mExtinction * std::max(0.0f, range.max());
+    }
+    bool present() const { return mMajorant > 0.0; }
+    openvdb::FloatGrid::ConstAccessor accessor() const { return mLighting->density().getConstAccessor(); }
+
+    /// Delta tracking along origin + t dir (dir unit), t in [tMin, tMax): the
+    /// distance of the first real collision, if there is one.
+    std::optional<double> collision(openvdb::FloatGrid::ConstAccessor& density, const Vec3d& origin, const Vec3d& dir,
+                                    double tMin, double tMax, SampleRandom& random) const
+    {
+        if (!present() || !mLighting->clip(origin, dir, tMin, tMax)) return std::nullopt;
+        for (double t = tMin;;) {
+            t -= std::log(1.0 - random.next()) / mMajorant;
+            if (t >= tMax) return std::nullopt;
+            if (random.next() * mMajorant < sigmaT(density, origin + dir * t)) return t;
+        }
+    }
+
+    /// Ratio tracking: an unbiased estimate of the transmittance along
+    /// origin + t dir, t in [tMin, tMax).
+    double transmittance(openvdb::FloatGrid::ConstAccessor& density, const Vec3d& origin, const Vec3d& dir, double tMin,
+                         double tMax, SampleRandom& random) const
+    {
+        if (!present() || !mLighting->clip(origin, dir, tMin, tMax)) return 1.0;
+        double transmittance = 1.0;
+        for (double t = tMin;;) {
+            t -= std::log(1.0 - random.next()) / mMajorant;
+            if (t >= tMax) return transmittance;
+            transmittance *= 1.0 - sigmaT(density, origin + dir * t) / mMajorant;
+            if (transmittance < 0.1) { // Russian roulette: what survives carries the rest
+                if (random.next() < 0.5) return 0.0;
+                transmittance *= 2.0;
+            }
+        }
+    }
+
+private:
+    double sigmaT(openvdb::FloatGrid::ConstAccessor& density, const Vec3d& p) const
+    {
+        float value;
+        openvdb::tools::BoxSampler::sample(density, mLighting->density().transform().worldToIndex(p), value);
+        return mExtinction * std::max(0.0f, value);
+    }
+
+    const CloudLighting* mLighting = nullptr;
+    double mExtinction, mMajorant = 0.0;
+};
+
+} // namespace
+
+RenderImage renderReference(const FrameToRender& f)
+{
+    const RenderSettings& s = *f.settings;
+    const Vec3d toSun = s.sun.direction.unitSafe();
+    const Vec3d sunRadiance = s.sun.color * s.sun.intensity;
+    const Medium medium(f.volume, s.medium);
+    const double albedo = s.medium.albedo;
+    const int maxEvents = s.integrator.maxBounces;
+
+    const int width = s.image.width, height = s.image.height, samplesPerPixel = s.image.samplesPerPixel;
+    RenderImage image;
+    image.width = width;
+    image.height = height;
+    image.rgba.assign(std::size_t(width) * height * 4, 0.0f);
+    image.depth.assign(std::size_t(width) * height, std::numeric_limits<float>::infinity());
+
+    const int tile = 16;
+    tbb::parallel_for(tbb::blocked_range2d<int>(0, height, tile, 0, width, tile), [&](const tbb::blocked_range2d<int>& r) {
+        std::optional<openvdb::FloatGrid::ConstAccessor> density;
+        if (medium.present()) density.emplace(medium.accessor());
+        // The sun's light reaching p (offset off any surface) through surfaces and cloud.
+        const auto sunReaching = [&](const Vec3d& p, SampleRandom& random) {
+            if (f.surfaces->occluded(p, toSun, 0.0, kInfinity)) return 0.0;
+            return medium.present() ? medium.transmittance(*density, p, toSun, 0.0, kInfinity, random) : 1.0;
+        };
+
+        for (int y = r.rows().begin(); y != r.rows().end(); ++y)
+            for (int x = r.cols().begin(); x != r.cols().end(); ++x) {
+                const uint32_t pixel = uint32_t(y) * uint32_t(width) + uint32_t(x);
+                Vec3d colour(0.0);
+                double alpha = 0.0;
+                float depth = std::numeric_limits<float>::infinity();
+                for (int sample = 0; sample < samplesPerPixel; ++sample) {
+                    SampleRandom random(uint32_t(f.frame), pixel, uint32_t(sample));
+                    const double jx = samplesPerPixel == 1 ? 0.5 : random.next();
+                    const double jy = samplesPerPixel == 1 ? 0.5 : random.next();
+                    Vec3d origin = f.camera.position(), dir = f.camera.direction(x + jx, y + jy);
+                    Vec3d radiance(0.0), weight(1.0);
+                    double firstDistance = -1.0; // of the camera ray's event; none: the sky
+                    for (int events = 0;;) {
+                        SurfaceHit hit;
+                        const bool isSurface = f.surfaces->intersect(origin, dir, 0.0, kInfinity, hit);
+                        const std::optional<double> scatter =
+                            medium.present()
+                                ? medium.collision(*density, origin, dir, 0.0, isSurface ? hit.distance : kInfinity, random)
+                                : std::nullopt;
+                        if (events == 0) {
+                            if (isSurface) depth = std::min(depth, float(hit.distance));
+                            if (scatter || isSurface) firstDistance = scatter ? *scatter : hit.distance;
+                        }
+                        if (scatter) {
+                            const Vec3d p = origin + dir * *scatter;
+                            weight *= albedo;
+                            radiance += weight * sunRadiance * (s.medium.phase(dir.dot(toSun)) * sunReaching(p, random));
+                            if (++events >= maxEvents) break;
+                            const bool backLobe = random.next() < s.medium.backWeight;
+                            const double g = backLobe ? s.medium.backAnisotropy : s.medium.anisotropy;
+                            const double cosTheta = sampleHenyeyGreenstein(g, random.next());
+                            dir = aroundAxis(dir, cosTheta, random.next());
+                            origin = p;
+                        } else if (isSurface) {
+                            const SurfaceShading surface = surfaceShading(f, hit);
+                            const Vec3d offset = hit.position + hit.geometricNormal * 1e-3 * (1.0 + hit.distance);
+                            const double cosSun = surface.normal.dot(toSun);
+                            if (cosSun > 0.0)
+                                radiance += weight * surface.albedo * sunRadiance * (cosSun / M_PI * sunReaching(offset, random));
+                            weight *= surface.albedo;
+                            if (++events >= maxEvents) break;
+                            // Cosine-distributed about the shading normal: the weight keeps albedo alone.
+                            const double u = random.next();
+                            dir = aroundAxis(surface.normal, std::sqrt(u), random.next());
+                            if (dir.dot(hit.geometricNormal) <= 0.0) break; // into the surface: absorbed
+                            origin = offset;
+                        } else {
+                            // Escaped: the camera sees the sky with the sun's glow; light
+                            // paths find only the dome (the sun is sampled at every event).
+                            if (events > 0) radiance += weight * skyDomeRadiance(s.sky, dir);
+                            else if (!s.image.transparentSky) radiance = skyRadiance(s, dir);
+                            break;
+                        }
+                        if (events >= 3) { // Russian roulette on the path's weight
+                            const double survive = std::clamp(std::max({weight[0], weight[1], weight[2]}), 0.05, 1.0);
+                            if (random.next() >= survive) break;
+                            weight /= survive;
+                        }
+                    }
+                    colour += firstDistance >= 0.0 ? throughHaze(s.sky, radiance, firstDistance) : radiance;
+                    alpha += firstDistance >= 0.0 || !s.image.transparentSky ? 1.0 : 0.0;
+                }
+                const double n = samplesPerPixel;
+                float* out = &image.rgba[4 * std::size_t(pixel)];
+                out[0] = float(colour[0] / n);
+                out[1] = float(colour[1] / n);
+                out[2] = float(colour[2] / n);
+                out[3] = float(alpha / n);
+                image.depth[pixel] = depth;
+            }
+    });
+    return image;
+}
+
+} // namespace vfield
