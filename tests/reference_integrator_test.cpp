@@ -48,6 +48,21 @@ double chordThroughSphere(const Vec3d& origin, const Vec3d& dir, const Vec3d& ce
     return disc > 0.0 ? 2.0 * std::sqrt(disc) : 0.0;
 }
 
+/// Where origin + t dir crosses the box [min, max]: the length inside it.
+double chordThroughBox(const Vec3d& origin, const Vec3d& dir, const Vec3d& min, const Vec3d& max)
+{
+    double t0 = 0.0, t1 = 1e30;
+    for (int axis = 0; axis < 3; ++axis) {
+        const double a = (min[axis] - origin[axis]) / dir[axis], b = (max[axis] - origin[axis]) / dir[axis];
+        t0 = std::max(t0, std::min(a, b));
+        t1 = std::min(t1, std::max(a, b));
+    }
+    return std::max(0.0, t1 - t0);
+}
+
+/// How far a ray from origin along dir (unit) runs through a cloud's shape.
+using Chord = std::function<double(const Vec3d& origin, const Vec3d& dir)>;
+
 /// A small scene: ground, a cloud, camera, sun and sky; rendered by either integrator.
 struct FeatureScene {
     RenderSettings settings;
@@ -98,8 +113,8 @@ struct FeatureScene {
         return renderFrame(frame);
     }
 
-    /// The pixels whose centre ray crosses more than minChord of the sphere and meets no surface.
-    std::vector<std::size_t> cloudPixels(const Vec3d& centre, double radius, double minChord) const
+    /// The pixels whose centre ray runs more than minChord through the cloud and meets no surface.
+    std::vector<std::size_t> cloudPixels(const Chord& chord, double minChord) const
     {
         std::vector<std::size_t> pixels;
         for (int y = 0; y < settings.image.height; ++y)
@@ -107,8 +122,7 @@ struct FeatureScene {
                 const Vec3d dir = frame.camera.direction(x + 0.5, y + 0.5);
                 SurfaceHit hit;
                 if (surfaces.intersect(frame.camera.position(), dir, 0.0, 1e30, hit)) continue;
-                if (chordThroughSphere(frame.camera.position(), dir, centre, radius) > minChord)
-                    pixels.push_back(std::size_t(y) * settings.image.width + x);
+                if (chord(frame.camera.position(), dir) > minChord) pixels.push_back(std::size_t(y) * settings.image.width + x);
             }
         return pixels;
     }
@@ -142,6 +156,8 @@ double standardError(const RenderImage& a, const RenderImage& b, const std::vect
 const Vec3d kCentre(0, 8, 0);
 constexpr double kRadius = 6.0;
 
+double chordThroughTheSphere(const Vec3d& origin, const Vec3d& dir) { return chordThroughSphere(origin, dir, kCentre, kRadius); }
+
 openvdb::FloatGrid::Ptr uniformSphere(float density)
 {
     return densityGrid(kCentre, kRadius + 0.5, 0.25,
@@ -161,7 +177,7 @@ TEST_CASE("reference: an absorbing sphere shows the sky times exp(-sigma d)", "[
     FeatureScene scene(sphere, false, Vec3d(0, 8, 30), kCentre, Vec3d(1, 0.2, 0));
     scene.settings.medium.extinction = 0.15;
     scene.settings.medium.albedo = 0.0;
-    const std::vector<std::size_t> pixels = scene.cloudPixels(kCentre, kRadius, 1.0);
+    const std::vector<std::size_t> pixels = scene.cloudPixels(chordThroughTheSphere, 1.0);
     REQUIRE(pixels.size() > 100);
     double measured = 0.0, expected = 0.0;
     const openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> sampler(*sphere);
@@ -190,9 +206,9 @@ struct Agreement {
 
 /// The mean radiance of the sphere's pixels by both integrators; the
 /// reference's standard error from a second, independent render.
-Agreement compare(FeatureScene& scene, int referenceSamples)
+Agreement compare(FeatureScene& scene, const Chord& chord, int referenceSamples)
 {
-    const std::vector<std::size_t> pixels = scene.cloudPixels(kCentre, kRadius, 1.0);
+    const std::vector<std::size_t> pixels = scene.cloudPixels(chord, 1.0);
     REQUIRE(pixels.size() > 100);
     const RenderImage fast = scene.render(IntegratorKind::Fast, 16);
     const RenderImage a = scene.render(IntegratorKind::Reference, referenceSamples, 1);
@@ -214,7 +230,7 @@ TEST_CASE("reference: the fast integrator's single scattering is the reference's
     scene.settings.sky.intensity = 0.0;
     scene.settings.integrator.multipleScattering.octaves = 1;
     scene.settings.integrator.maxBounces = 1;
-    const Agreement single = compare(scene, 64);
+    const Agreement single = compare(scene, chordThroughTheSphere, 64);
     INFO("single scattering: fast " << single.fast << ", reference " << single.reference << " +- " << single.referenceError);
     // Within three standard errors, and 1% for the light grid's interpolation.
     CHECK(std::abs(single.fast - single.reference) < 3.0 * single.referenceError + 0.01 * single.reference);
@@ -240,7 +256,7 @@ TEST_CASE("reference: its noise falls as one over the square root of the samples
     FeatureScene scene(uniformSphere(1.0f), true, Vec3d(0, 8, 30), kCentre, Vec3d(1, 0.2, 0));
     scene.settings.medium.extinction = 0.5;
     scene.settings.medium.albedo = 0.95;
-    const std::vector<std::size_t> pixels = scene.cloudPixels(kCentre, kRadius, 1.0);
+    const std::vector<std::size_t> pixels = scene.cloudPixels(chordThroughTheSphere, 1.0);
     const auto noise = [&](int samples) {
         return standardError(scene.render(IntegratorKind::Reference, samples, 1),
                              scene.render(IntegratorKind::Reference, samples, 2), pixels);
@@ -258,7 +274,7 @@ TEST_CASE("reference: fast and reference agree within 10% on a sphere of cloud o
     scene.settings.medium.extinction = 0.5;
     scene.settings.medium.albedo = 0.95;
     scene.settings.medium.anisotropy = 0.6;
-    const Agreement all = compare(scene, 64);
+    const Agreement all = compare(scene, chordThroughTheSphere, 64);
     INFO("sphere lit from the side: fast " << all.fast << ", reference " << all.reference << " +- " << all.referenceError);
     CHECK(all.relative() < 0.1);
 }
@@ -275,7 +291,12 @@ TEST_CASE("reference: fast and reference agree within 10% on a constant-density 
     scene.settings.medium.extinction = 0.3;
     scene.settings.medium.albedo = 0.9;
     scene.settings.medium.anisotropy = 0.6;
-    const Agreement all = compare(scene, 64);
+    const Agreement all = compare(
+        scene,
+        [](const Vec3d& origin, const Vec3d& dir) {
+            return chordThroughBox(origin, dir, kCentre - Vec3d(6, 3, 5), kCentre + Vec3d(6, 3, 5));
+        },
+        64);
     INFO("box lit from above: fast " << all.fast << ", reference " << all.reference << " +- " << all.referenceError);
     CHECK(all.relative() < 0.1);
 }
