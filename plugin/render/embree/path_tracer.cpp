@@ -1,12 +1,9 @@
 #include <vfield/render/embree/path_tracer.h>
 
-#include <vfield/render/embree/sample_random.h>
+#include <vfield/render/embree/camera_samples.h>
 
 #include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/Statistics.h>
-
-#include <tbb/blocked_range2d.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -104,96 +101,70 @@ RenderImage renderReference(const FrameToRender& f)
     const double albedo = s.medium.albedo;
     const int maxEvents = s.integrator.maxBounces;
 
-    const int width = s.image.width, height = s.image.height, samplesPerPixel = s.image.samplesPerPixel;
-    RenderImage image;
-    image.width = width;
-    image.height = height;
-    image.rgba.assign(std::size_t(width) * height * 4, 0.0f);
-    image.depth.assign(std::size_t(width) * height, std::numeric_limits<float>::infinity());
-
-    const int tile = 16;
-    tbb::parallel_for(tbb::blocked_range2d<int>(0, height, tile, 0, width, tile), [&](const tbb::blocked_range2d<int>& r) {
-        std::optional<openvdb::FloatGrid::ConstAccessor> density;
-        if (medium.present()) density.emplace(medium.accessor());
-        // The sun's light reaching p (offset off any surface) through surfaces and cloud.
-        const auto sunReaching = [&](const Vec3d& p, SampleRandom& random) {
-            if (f.surfaces->occluded(p, toSun, 0.0, kInfinity)) return 0.0;
-            return medium.present() ? medium.transmittance(*density, p, toSun, 0.0, kInfinity, random) : 1.0;
-        };
-
-        for (int y = r.rows().begin(); y != r.rows().end(); ++y)
-            for (int x = r.cols().begin(); x != r.cols().end(); ++x) {
-                const uint32_t pixel = uint32_t(y) * uint32_t(width) + uint32_t(x);
-                Vec3d colour(0.0);
-                double alpha = 0.0;
-                float depth = std::numeric_limits<float>::infinity();
-                for (int sample = 0; sample < samplesPerPixel; ++sample) {
-                    SampleRandom random(uint32_t(f.frame), pixel, uint32_t(sample));
-                    const double jx = samplesPerPixel == 1 ? 0.5 : random.next();
-                    const double jy = samplesPerPixel == 1 ? 0.5 : random.next();
-                    Vec3d origin = f.camera.position(), dir = f.camera.direction(x + jx, y + jy);
-                    Vec3d radiance(0.0), weight(1.0);
-                    double firstDistance = -1.0; // of the camera ray's event; none: the sky
-                    for (int events = 0;;) {
-                        SurfaceHit hit;
-                        const bool isSurface = f.surfaces->intersect(origin, dir, 0.0, kInfinity, hit);
-                        const std::optional<double> scatter =
-                            medium.present()
-                                ? medium.collision(*density, origin, dir, 0.0, isSurface ? hit.distance : kInfinity, random)
-                                : std::nullopt;
-                        if (events == 0) {
-                            if (isSurface) depth = std::min(depth, float(hit.distance));
-                            if (scatter || isSurface) firstDistance = scatter ? *scatter : hit.distance;
-                        }
-                        if (scatter) {
-                            const Vec3d p = origin + dir * *scatter;
-                            weight *= albedo;
-                            radiance += weight * sunRadiance * (s.medium.phase(dir.dot(toSun)) * sunReaching(p, random));
-                            if (++events >= maxEvents) break;
-                            const bool backLobe = random.next() < s.medium.backWeight;
-                            const double g = backLobe ? s.medium.backAnisotropy : s.medium.anisotropy;
-                            const double cosTheta = sampleHenyeyGreenstein(g, random.next());
-                            dir = aroundAxis(dir, cosTheta, random.next());
-                            origin = p;
-                        } else if (isSurface) {
-                            const SurfaceShading surface = surfaceShading(f, hit);
-                            const Vec3d offset = hit.position + hit.geometricNormal * 1e-3 * (1.0 + hit.distance);
-                            const double cosSun = surface.normal.dot(toSun);
-                            if (cosSun > 0.0)
-                                radiance += weight * surface.albedo * sunRadiance * (cosSun / M_PI * sunReaching(offset, random));
-                            weight *= surface.albedo;
-                            if (++events >= maxEvents) break;
-                            // Cosine-distributed about the shading normal: the weight keeps albedo alone.
-                            const double u = random.next();
-                            dir = aroundAxis(surface.normal, std::sqrt(u), random.next());
-                            if (dir.dot(hit.geometricNormal) <= 0.0) break; // into the surface: absorbed
-                            origin = offset;
-                        } else {
-                            // Escaped: the camera sees the sky with the sun's glow; light
-                            // paths find only the dome (the sun is sampled at every event).
-                            if (events > 0) radiance += weight * skyDomeRadiance(s.sky, dir);
-                            else if (!s.image.transparentSky) radiance = skyRadiance(s, dir);
-                            break;
-                        }
-                        if (events >= 3) { // Russian roulette on the path's weight
-                            const double survive = std::clamp(std::max({weight[0], weight[1], weight[2]}), 0.05, 1.0);
-                            if (random.next() >= survive) break;
-                            weight /= survive;
-                        }
-                    }
-                    colour += firstDistance >= 0.0 ? throughHaze(s.sky, radiance, firstDistance) : radiance;
-                    alpha += firstDistance >= 0.0 || !s.image.transparentSky ? 1.0 : 0.0;
+    return renderCameraSamples(f, [&] {
+        // An accessor per tile: they cache tree nodes and are not shared between threads.
+        using Accessor = std::optional<openvdb::FloatGrid::ConstAccessor>;
+        return [&, density = medium.present() ? Accessor(medium.accessor()) : Accessor()](const Vec3d& cameraDir,
+                                                                                          SampleRandom& random) mutable {
+            // The sun's light reaching p (offset off any surface) through surfaces and cloud.
+            const auto sunReaching = [&](const Vec3d& p) {
+                if (f.surfaces->occluded(p, toSun, 0.0, kInfinity)) return 0.0;
+                return medium.present() ? medium.transmittance(*density, p, toSun, 0.0, kInfinity, random) : 1.0;
+            };
+            CameraSample seen;
+            Vec3d origin = f.camera.position(), dir = cameraDir;
+            Vec3d radiance(0.0), weight(1.0);
+            double firstDistance = -1.0; // of the camera ray's event; none: the sky
+            for (int events = 0;;) {
+                SurfaceHit hit;
+                const bool isSurface = f.surfaces->intersect(origin, dir, 0.0, kInfinity, hit);
+                const std::optional<double> scatter =
+                    medium.present() ? medium.collision(*density, origin, dir, 0.0, isSurface ? hit.distance : kInfinity, random)
+                                     : std::nullopt;
+                if (events == 0) {
+                    if (isSurface) seen.depth = float(hit.distance);
+                    if (scatter || isSurface) firstDistance = scatter ? *scatter : hit.distance;
                 }
-                const double n = samplesPerPixel;
-                float* out = &image.rgba[4 * std::size_t(pixel)];
-                out[0] = float(colour[0] / n);
-                out[1] = float(colour[1] / n);
-                out[2] = float(colour[2] / n);
-                out[3] = float(alpha / n);
-                image.depth[pixel] = depth;
+                if (scatter) {
+                    const Vec3d p = origin + dir * *scatter;
+                    weight *= albedo;
+                    radiance += weight * sunRadiance * (s.medium.phase(dir.dot(toSun)) * sunReaching(p));
+                    if (++events >= maxEvents) break;
+                    const bool backLobe = random.next() < s.medium.backWeight;
+                    const double g = backLobe ? s.medium.backAnisotropy : s.medium.anisotropy;
+                    const double cosTheta = sampleHenyeyGreenstein(g, random.next());
+                    dir = aroundAxis(dir, cosTheta, random.next());
+                    origin = p;
+                } else if (isSurface) {
+                    const SurfaceShading surface = surfaceShading(f, hit);
+                    const Vec3d offset = hit.position + hit.geometricNormal * 1e-3 * (1.0 + hit.distance);
+                    const double cosSun = surface.normal.dot(toSun);
+                    if (cosSun > 0.0) radiance += weight * surface.albedo * sunRadiance * (cosSun / M_PI * sunReaching(offset));
+                    weight *= surface.albedo;
+                    if (++events >= maxEvents) break;
+                    // Cosine-distributed about the shading normal: the weight keeps albedo alone.
+                    const double u = random.next();
+                    dir = aroundAxis(surface.normal, std::sqrt(u), random.next());
+                    if (dir.dot(hit.geometricNormal) <= 0.0) break; // into the surface: absorbed
+                    origin = offset;
+                } else {
+                    // Escaped: the camera sees the sky with the sun's glow; light
+                    // paths find only the dome (the sun is sampled at every event).
+                    if (events > 0) radiance += weight * skyDomeRadiance(s.sky, dir);
+                    else if (!s.image.transparentSky) radiance = skyRadiance(s, dir);
+                    break;
+                }
+                if (events >= 3) { // Russian roulette on the path's weight
+                    const double survive = std::clamp(std::max({weight[0], weight[1], weight[2]}), 0.05, 1.0);
+                    if (random.next() >= survive) break;
+                    weight /= survive;
+                }
             }
+            seen.radiance = firstDistance >= 0.0 ? throughHaze(s.sky, radiance, firstDistance) : radiance;
+            seen.alpha = firstDistance >= 0.0 || !s.image.transparentSky ? 1.0 : 0.0;
+            return seen;
+        };
     });
-    return image;
 }
 
 } // namespace vfield

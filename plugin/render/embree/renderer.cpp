@@ -1,10 +1,7 @@
 #include <vfield/render/embree/renderer.h>
 
+#include <vfield/render/embree/camera_samples.h>
 #include <vfield/render/embree/path_tracer.h>
-#include <vfield/render/embree/sample_random.h>
-
-#include <tbb/blocked_range2d.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -68,59 +65,29 @@ RenderImage renderFast(const FrameToRender& f)
     const Vec3d sunRadiance = s.sun.color * s.sun.intensity;
     const Vec3d skyAmbient = cloudAmbientRadiance(s.sky, groundRadianceBelow(f));
 
-    const int width = s.image.width, height = s.image.height, samplesPerPixel = s.image.samplesPerPixel;
-    RenderImage image;
-    image.width = width;
-    image.height = height;
-    image.rgba.assign(std::size_t(width) * height * 4, 0.0f);
-    image.depth.assign(std::size_t(width) * height, std::numeric_limits<float>::infinity());
-
-    const int tile = 16;
-    tbb::parallel_for(tbb::blocked_range2d<int>(0, height, tile, 0, width, tile), [&](const tbb::blocked_range2d<int>& r) {
-        for (int y = r.rows().begin(); y != r.rows().end(); ++y)
-            for (int x = r.cols().begin(); x != r.cols().end(); ++x) {
-                const uint32_t pixel = uint32_t(y) * uint32_t(width) + uint32_t(x);
-                Vec3d colour(0.0);
-                double alpha = 0.0;
-                float depth = std::numeric_limits<float>::infinity();
-                for (int sample = 0; sample < samplesPerPixel; ++sample) {
-                    SampleRandom random(uint32_t(f.frame), pixel, uint32_t(sample));
-                    // One sample at the pixel centre, the rest jittered over it.
-                    const double jx = samplesPerPixel == 1 ? 0.5 : random.next();
-                    const double jy = samplesPerPixel == 1 ? 0.5 : random.next();
-                    const Vec3d dir = f.camera.direction(x + jx, y + jy);
-                    SurfaceHit hit;
-                    const bool isSurface =
-                        f.surfaces->intersect(f.camera.position(), dir, 0.0, std::numeric_limits<double>::max(), hit);
-                    // Premultiplied: a drawn sky is an opaque background; a
-                    // transparent one adds neither light nor coverage.
-                    const bool drawSky = !s.image.transparentSky;
-                    Vec3d radiance = isSurface ? throughHaze(s.sky, directlyLitSurface(f, hit), hit.distance)
-                                     : drawSky ? skyRadiance(s, dir)
-                                               : Vec3d(0.0);
-                    double opacity = isSurface || drawSky ? 1.0 : 0.0;
-                    if (f.volume) {
-                        const CloudVolume::Segment cloud =
-                            f.volume->march(f.camera.position(), dir, 0.0, isSurface ? hit.distance : 1e30, random.next(),
-                                            sunRadiance, skyAmbient);
-                        radiance = throughHaze(s.sky, cloud.radiance, cloud.distance, 1.0 - cloud.transmittance) +
-                                   radiance * cloud.transmittance;
-                        opacity = 1.0 - (1.0 - opacity) * cloud.transmittance;
-                    }
-                    colour += radiance;
-                    alpha += opacity;
-                    if (isSurface) depth = std::min(depth, float(hit.distance));
-                }
-                const double n = samplesPerPixel;
-                float* out = &image.rgba[4 * std::size_t(pixel)];
-                out[0] = float(colour[0] / n);
-                out[1] = float(colour[1] / n);
-                out[2] = float(colour[2] / n);
-                out[3] = float(alpha / n);
-                image.depth[pixel] = depth;
+    return renderCameraSamples(f, [&] {
+        return [&](const Vec3d& dir, SampleRandom& random) {
+            CameraSample seen;
+            SurfaceHit hit;
+            const bool isSurface = f.surfaces->intersect(f.camera.position(), dir, 0.0, std::numeric_limits<double>::max(), hit);
+            // Premultiplied: a drawn sky is an opaque background; a
+            // transparent one adds neither light nor coverage.
+            const bool drawSky = !s.image.transparentSky;
+            seen.radiance = isSurface ? throughHaze(s.sky, directlyLitSurface(f, hit), hit.distance)
+                            : drawSky ? skyRadiance(s, dir)
+                                      : Vec3d(0.0);
+            seen.alpha = isSurface || drawSky ? 1.0 : 0.0;
+            if (f.volume) {
+                const CloudVolume::Segment cloud = f.volume->march(f.camera.position(), dir, 0.0, isSurface ? hit.distance : 1e30,
+                                                                   random.next(), sunRadiance, skyAmbient);
+                seen.radiance = throughHaze(s.sky, cloud.radiance, cloud.distance, 1.0 - cloud.transmittance) +
+                                seen.radiance * cloud.transmittance;
+                seen.alpha = 1.0 - (1.0 - seen.alpha) * cloud.transmittance;
             }
+            if (isSurface) seen.depth = float(hit.distance);
+            return seen;
+        };
     });
-    return image;
 }
 
 } // namespace
