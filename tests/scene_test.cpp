@@ -47,7 +47,7 @@ TEST_CASE("scene: bad values are refused with their JSON path", "[scene]")
     CHECK_THROWS_WITH(sceneWith(R"(, "simulation": {"sampling": "cubic"})"), Catch::Contains("/simulation/sampling"));
     CHECK_THROWS_WITH(sceneWith(R"(, "camera": {"follow": {"object": "ground"}})"), Catch::Contains("not a dynamic object"));
     CHECK_THROWS_WITH(sceneWith(R"(, "render": {"integrator": "pathtracer"})"),
-                      "s.json: /render/integrator: expected \"fast\" or \"reference\", got \"pathtracer\"");
+                      "s.json: /render/integrator: expected one of \"fast\", \"reference\", got \"pathtracer\"");
     CHECK_THROWS_WITH(sceneWith(R"(, "render": {"maxBounces": 0})"), Catch::Contains("/render/maxBounces"));
     CHECK_THROWS_WITH(parseScene(R"({"version": 2, "objects": []})", "s.json"), Catch::Contains("/version"));
     CHECK_THROWS_WITH(parseScene(R"({"version": 1})", "s.json"), "s.json: /: missing key \"objects\"");

@@ -57,12 +57,9 @@ TerrainOptions terrainOptionsFromJson(const JsonValue& json)
     t.featureSize = o.number("featureSize", t.featureSize);
     t.octaves = o.integer("octaves", t.octaves);
     t.roughness = o.number("roughness", t.roughness);
-    if (const auto style = o.find("style")) {
-        const std::string name = style->asString();
-        if (name == "fbm") t.style = TerrainStyle::Fbm;
-        else if (name == "ridged") t.style = TerrainStyle::Ridged;
-        else style->fail("expected \"fbm\" or \"ridged\", got \"" + name + "\"");
-    }
+    const bool ridged = t.style == TerrainStyle::Ridged;
+    t.style =
+        o.choice("style", ridged ? "ridged" : "fbm", {"fbm", "ridged"}) == "ridged" ? TerrainStyle::Ridged : TerrainStyle::Fbm;
     t.erosion = o.number("erosion", t.erosion);
     t.baseThickness = o.number("baseThickness", t.baseThickness);
     if (const auto carves = o.find("carves")) {

@@ -145,12 +145,10 @@ void renderSectionFromJson(const JsonValue& json, RenderSettings& settings)
     medium.backAnisotropy = o.number("backAnisotropy", medium.backAnisotropy);
     medium.backWeight = o.number("backWeight", medium.backWeight);
     IntegratorSettings& integrator = settings.integrator;
-    if (const auto kind = o.find("integrator")) {
-        const std::string name = kind->asString();
-        if (name == "fast") integrator.kind = IntegratorKind::Fast;
-        else if (name == "reference") integrator.kind = IntegratorKind::Reference;
-        else kind->fail("expected \"fast\" or \"reference\", got \"" + name + "\"");
-    }
+    const bool reference = integrator.kind == IntegratorKind::Reference;
+    integrator.kind = o.choice("integrator", reference ? "reference" : "fast", {"fast", "reference"}) == "reference"
+                          ? IntegratorKind::Reference
+                          : IntegratorKind::Fast;
     integrator.maxBounces = o.integer("maxBounces", integrator.maxBounces);
     integrator.volumeStep = o.number("volumeStep", integrator.volumeStep);
     integrator.skipEmptySpace = o.boolean("skipEmptySpace", integrator.skipEmptySpace);
