@@ -47,23 +47,49 @@ TEST_CASE("density splat: the grid integrates to particles x density per particl
     CHECK(grids.velocity->getName() == "vel");
 }
 
-TEST_CASE("density splat: one particle gives the kernel's peak and its own velocity", "[volume]")
+TEST_CASE("density splat: one particle's kernel is centred on it, as spread as the smooth kernel of radius R, and ends",
+          "[volume]")
 {
     ParticleSet one;
-    one.position = {Vec3f(1.0f, 2.0f, 3.0f)}; // a voxel centre for voxel size 0.5
+    one.position = {Vec3f(1.1f, 2.2f, 2.9f)};
     one.velocity = {Vec3f(4.0f, 5.0f, 6.0f)};
     one.id = {7};
     one.radius = {0.5f};
     one.cloud = {0};
-    VolumeOptions options;
-    options.voxelSize = 0.5;
-    options.kernelRadius = 1.5;
-    const DensityGrids grids = splatParticles(one, options);
-    const openvdb::Coord centre(2, 4, 6);
-    CHECK(grids.density->tree().getValue(centre) == Approx(315.0 / (64.0 * M_PI * std::pow(1.5, 3))));
-    CHECK(grids.velocity->tree().getValue(centre) == openvdb::Vec3s(4, 5, 6));
-    // The kernel ends at its radius: three voxels away is 1.5 units, zero.
-    CHECK(grids.density->tree().getValue(openvdb::Coord(5, 4, 6)) == 0.0f);
+    for (const double radius : {1.5, 3.0}) {
+        VolumeOptions options;
+        options.voxelSize = 0.5;
+        options.kernelRadius = radius;
+        options.densityPerParticle = 2.0;
+        const DensityGrids grids = splatParticles(one, options);
+        double mass = 0.0;
+        Vec3d first(0.0), second(0.0), farthest(0.0);
+        for (auto it = grids.density->cbeginValueOn(); it; ++it) {
+            if (*it == 0.0f) continue;
+            const Vec3d p = grids.density->indexToWorld(it.getCoord());
+            mass += *it;
+            for (int axis = 0; axis < 3; ++axis) {
+                first[axis] += *it * p[axis];
+                second[axis] += *it * p[axis] * p[axis];
+                farthest[axis] = std::max(farthest[axis], std::abs(p[axis] - double(one.position[0][axis])));
+            }
+            const openvdb::Vec3s v = grids.velocity->tree().getValue(it.getCoord());
+            CHECK(v[0] == Approx(4.0f));
+            CHECK(v[1] == Approx(5.0f));
+            CHECK(v[2] == Approx(6.0f));
+        }
+        CHECK(mass * std::pow(0.5, 3) == Approx(2.0));
+        for (int axis = 0; axis < 3; ++axis) {
+            const double mean = first[axis] / mass, variance = second[axis] / mass - mean * mean;
+            INFO("radius " << radius << ", axis " << axis << ": variance " << variance << ", smooth kernel's "
+                           << radius * radius / 11.0);
+            CHECK(mean == Approx(one.position[0][axis]).margin(1e-5));
+            // The blur comes in passes adding 2/3 voxel^2 each: within half a pass.
+            CHECK(std::abs(variance - radius * radius / 11.0) < 0.34 * 0.25);
+            // No further than the smooth kernel reaches, plus a voxel.
+            CHECK(farthest[axis] < radius + 0.5);
+        }
+    }
 }
 
 TEST_CASE("particle grid: every particle is stored with its attributes", "[volume]")

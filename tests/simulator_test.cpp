@@ -10,9 +10,12 @@
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <random>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -54,15 +57,17 @@ TEST_CASE("simulator: a drag of 1e4 creeps downwind in a few substeps a frame", 
     Scene scene = test::showcaseAtTestResolution("cloud_over_terrain.json", 500, 4);
     scene.simulation.clouds[0].drag = 1e4;
     Simulator sim(scene.simulation);
-    const std::vector<Vec3f> start = sim.particles().position;
+    std::map<uint32_t, Vec3f> start; // by id: the simulator reorders particles
+    for (std::size_t p = 0; p < sim.particles().size(); ++p) start[sim.particles().id[p]] = sim.particles().position[p];
     for (int frame = 0; frame < 3; ++frame) {
         sim.advanceFrame();
         INFO("frame " << frame + 2);
         CHECK(sim.lastStep().maxSubsteps <= 3);
     }
     double meanDownwind = 0.0, largest = 0.0;
+    REQUIRE(sim.particles().size() == start.size());
     for (std::size_t p = 0; p < start.size(); ++p) {
-        const Vec3d moved = Vec3d(sim.particles().position[p]) - Vec3d(start[p]);
+        const Vec3d moved = Vec3d(sim.particles().position[p]) - Vec3d(start.at(sim.particles().id[p]));
         meanDownwind += moved[0] / double(start.size());
         largest = std::max(largest, moved.length());
     }
@@ -402,4 +407,41 @@ TEST_CASE("simulator: a fast box through resting particles pushes them aside, no
     CHECK(contacts > 0);                                         // the field alone could not do it
     CHECK(sim.objectStates()[0].pose.translation[0] > 30.0);     // the box went through the block
     CHECK(sim.particles().size() + sim.removedTotal() == 20000); // and no particle was lost on the way
+}
+
+TEST_CASE("particles: a spatial sort keeps each particle's attributes together and puts neighbours next to each other", "[sim]")
+{
+    ParticleSet particles;
+    std::mt19937 random(3);
+    std::uniform_real_distribution<float> u(-50.0f, 50.0f);
+    for (uint32_t i = 0; i < 20000; ++i) {
+        const Vec3f p(u(random), u(random), u(random));
+        particles.position.push_back(p);
+        particles.velocity.push_back(p * 2.0f);
+        particles.rest.push_back(p * 3.0f);
+        particles.id.push_back(i);
+        particles.radius.push_back(float(i));
+        particles.cloud.push_back(uint16_t(i % 3));
+    }
+    const auto meanStep = [&] {
+        double sum = 0.0;
+        for (std::size_t i = 1; i < particles.size(); ++i)
+            sum += (Vec3d(particles.position[i]) - Vec3d(particles.position[i - 1])).length();
+        return sum / double(particles.size() - 1);
+    };
+    const double before = meanStep();
+    particles.sortSpatially(BBoxd(Vec3d(-50.0), Vec3d(50.0)));
+    const double after = meanStep();
+    INFO("mean distance between consecutive particles: " << before << " in spawn order, " << after << " sorted");
+    CHECK(after < 0.1 * before);
+    std::vector<uint8_t> seen(particles.size(), 0);
+    for (std::size_t i = 0; i < particles.size(); ++i) {
+        const uint32_t id = particles.id[i];
+        ++seen[id];
+        CHECK(particles.velocity[i] == particles.position[i] * 2.0f);
+        CHECK(particles.rest[i] == particles.position[i] * 3.0f);
+        CHECK(particles.radius[i] == float(id));
+        CHECK(particles.cloud[i] == id % 3);
+    }
+    CHECK(std::count(seen.begin(), seen.end(), 1) == std::ptrdiff_t(seen.size()));
 }

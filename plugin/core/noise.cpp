@@ -25,43 +25,18 @@ float gradient2(int h, float x, float y)
 }
 
 /// The twelve edge directions of a cube (Perlin 2002), four repeated.
+constexpr float kCubeEdges[16][3] = {{1, 1, 0},  {-1, 1, 0},  {1, -1, 0}, {-1, -1, 0}, {1, 0, 1},  {-1, 0, 1},
+                                     {1, 0, -1}, {-1, 0, -1}, {0, 1, 1},  {0, -1, 1},  {0, 1, -1}, {0, -1, -1},
+                                     {1, 1, 0},  {0, -1, 1},  {-1, 1, 0}, {0, -1, -1}};
+
 float gradient3(int h, float x, float y, float z)
 {
-    switch (h & 15) {
-    case 0:
-        return x + y;
-    case 1:
-        return -x + y;
-    case 2:
-        return x - y;
-    case 3:
-        return -x - y;
-    case 4:
-        return x + z;
-    case 5:
-        return -x + z;
-    case 6:
-        return x - z;
-    case 7:
-        return -x - z;
-    case 8:
-        return y + z;
-    case 9:
-        return -y + z;
-    case 10:
-        return y - z;
-    case 11:
-        return -y - z;
-    case 12:
-        return x + y;
-    case 13:
-        return -y + z;
-    case 14:
-        return -x + y;
-    default:
-        return -y - z;
-    }
+    const float* g = kCubeEdges[h & 15];
+    return g[0] * x + g[1] * y + g[2] * z;
 }
+
+/// The derivative of fade.
+float fadeDerivative(float t) { return 30.0f * t * t * (t - 1.0f) * (t - 1.0f); }
 
 } // namespace
 
@@ -99,6 +74,47 @@ float GradientNoise::operator()(float x, float y, float z) const
     return lerp(lerp(x0, x1, v), lerp(x2, x3, v), w);
 }
 
+NoiseSample GradientNoise::sample(const Vec3f& p) const
+{
+    const float fx = std::floor(p[0]), fy = std::floor(p[1]), fz = std::floor(p[2]);
+    const int ix = int(fx), iy = int(fy), iz = int(fz);
+    const float dx = p[0] - fx, dy = p[1] - fy, dz = p[2] - fz;
+    const float u = fade(dx), v = fade(dy), w = fade(dz);
+    const float du = fadeDerivative(dx), dv = fadeDerivative(dy), dw = fadeDerivative(dz);
+    const int a = hash(ix) + iy, aa = hash(a) + iz, ab = hash(a + 1) + iz;
+    const int b = hash(ix + 1) + iy, ba = hash(b) + iz, bb = hash(b + 1) + iz;
+    // The corners' gradients, named by their offsets (x y z), as operator() hashes them.
+    const float* g000 = kCubeEdges[hash(aa) & 15];
+    const float* g100 = kCubeEdges[hash(ba) & 15];
+    const float* g010 = kCubeEdges[hash(ab) & 15];
+    const float* g110 = kCubeEdges[hash(bb) & 15];
+    const float* g001 = kCubeEdges[hash(aa + 1) & 15];
+    const float* g101 = kCubeEdges[hash(ba + 1) & 15];
+    const float* g011 = kCubeEdges[hash(ab + 1) & 15];
+    const float* g111 = kCubeEdges[hash(bb + 1) & 15];
+    const auto ramp = [](const float* g, float x, float y, float z) { return g[0] * x + g[1] * y + g[2] * z; };
+    const float n000 = ramp(g000, dx, dy, dz), n100 = ramp(g100, dx - 1, dy, dz);
+    const float n010 = ramp(g010, dx, dy - 1, dz), n110 = ramp(g110, dx - 1, dy - 1, dz);
+    const float n001 = ramp(g001, dx, dy, dz - 1), n101 = ramp(g101, dx - 1, dy, dz - 1);
+    const float n011 = ramp(g011, dx, dy - 1, dz - 1), n111 = ramp(g111, dx - 1, dy - 1, dz - 1);
+    // The value as a polynomial in the fades; its gradient adds the fades'
+    // derivatives times that polynomial's partials to the blend of the gradients.
+    const float k1 = n100 - n000, k2 = n010 - n000, k3 = n001 - n000;
+    const float k4 = n000 - n100 - n010 + n110, k5 = n000 - n010 - n001 + n011, k6 = n000 - n100 - n001 + n101;
+    const float k7 = -n000 + n100 + n010 - n110 + n001 - n101 - n011 + n111;
+    NoiseSample s;
+    s.value = n000 + k1 * u + k2 * v + k3 * w + k4 * u * v + k5 * v * w + k6 * w * u + k7 * u * v * w;
+    for (int axis = 0; axis < 3; ++axis) {
+        const float x0 = g000[axis] + (g100[axis] - g000[axis]) * u, x1 = g010[axis] + (g110[axis] - g010[axis]) * u;
+        const float x2 = g001[axis] + (g101[axis] - g001[axis]) * u, x3 = g011[axis] + (g111[axis] - g011[axis]) * u;
+        const float y0 = x0 + (x1 - x0) * v, y1 = x2 + (x3 - x2) * v;
+        s.gradient[axis] = y0 + (y1 - y0) * w;
+    }
+    s.gradient += Vec3f(du * (k1 + k4 * v + k6 * w + k7 * v * w), dv * (k2 + k4 * u + k5 * w + k7 * u * w),
+                        dw * (k3 + k5 * v + k6 * u + k7 * u * v));
+    return s;
+}
+
 float fbm(const GradientNoise& noise, const Vec3f& p, const FractalOptions& options)
 {
     float sum = 0.0f, amplitude = 1.0f, total = 0.0f, frequency = 1.0f;
@@ -111,6 +127,25 @@ float fbm(const GradientNoise& noise, const Vec3f& p, const FractalOptions& opti
         frequency *= float(options.lacunarity);
     }
     return sum / total;
+}
+
+NoiseSample fbmSample(const GradientNoise& noise, const Vec3f& p, const FractalOptions& options)
+{
+    NoiseSample sum;
+    float amplitude = 1.0f, total = 0.0f, frequency = 1.0f;
+    for (int octave = 0; octave < options.octaves; ++octave) {
+        const float shift = 17.31f * float(octave); // as in fbm
+        const NoiseSample octaveSample =
+            noise.sample(Vec3f(p[0] * frequency + shift, p[1] * frequency - shift, p[2] * frequency + 0.5f * shift));
+        sum.value += amplitude * octaveSample.value;
+        sum.gradient += octaveSample.gradient * (amplitude * frequency);
+        total += amplitude;
+        amplitude *= float(options.gain);
+        frequency *= float(options.lacunarity);
+    }
+    sum.value /= total;
+    sum.gradient /= total;
+    return sum;
 }
 
 float fbm(const GradientNoise& noise, float x, float y, const FractalOptions& options)

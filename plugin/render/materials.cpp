@@ -43,23 +43,21 @@ Vec3d surfaceAlbedo(SurfaceMaterial material, const Vec3d& position, const Vec3d
     const double slope = normal[1] + 0.12 * fine;
     Vec3d colour = lerp(grass, dryGrass, smoothstep(0.25, 0.75, height + 0.25 * broad));
     colour *= 0.8 + 0.4 * (0.5 + 0.5 * fine);
-    const Vec3d stone = lerp(darkRock, rock, 0.5 + 0.5 * noiseAt(position + Vec3d(0, 3.1 * position[1], 0), 1.0 / 6.0, 2));
-    colour = lerp(colour, stone, smoothstep(0.72, 0.55, slope));
+    if (const double steep = smoothstep(0.72, 0.55, slope); steep > 0.0) {
+        const Vec3d stone = lerp(darkRock, rock, 0.5 + 0.5 * noiseAt(position + Vec3d(0, 3.1 * position[1], 0), 1.0 / 6.0, 2));
+        colour = lerp(colour, stone, steep);
+    }
     return lerp(colour, snow, smoothstep(0.85, 0.95, height) * smoothstep(0.5, 0.75, slope));
 }
 
 Vec3d shadingNormal(SurfaceMaterial material, const Vec3d& position, const Vec3d& normal)
 {
     if (material == SurfaceMaterial::Painted) return normal;
-    // Bumps a few units across: the noise's gradient, by central differences,
-    // tilts the normal, its part along the normal removed.
-    constexpr double kFrequency = 1.0 / 2.5, kStrength = 0.6, kDelta = 0.05;
-    Vec3d gradient;
-    for (int axis = 0; axis < 3; ++axis) {
-        Vec3d step(0.0);
-        step[axis] = kDelta;
-        gradient[axis] = (noiseAt(position + step, kFrequency, 2) - noiseAt(position - step, kFrequency, 2)) / (2.0 * kDelta);
-    }
+    // Bumps a few units across: the noise's gradient tilts the normal, its
+    // part along the normal removed.
+    constexpr double kFrequency = 1.0 / 2.5, kStrength = 0.6;
+    Vec3d gradient =
+        Vec3d(fbmSample(terrainNoise(), Vec3f(position * kFrequency), FractalOptions{2, 2.0, 0.5}).gradient) * kFrequency;
     gradient -= normal * gradient.dot(normal);
     return (normal - gradient * (kStrength / kFrequency * 0.1)).unitSafe();
 }

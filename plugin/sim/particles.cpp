@@ -1,5 +1,11 @@
 #include <vfield/sim/particles.h>
 
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
 namespace vfield {
 
 void ParticleSet::reserve(std::size_t n)
@@ -31,6 +37,51 @@ void ParticleSet::keep(const std::vector<uint8_t>& alive)
     id.resize(kept);
     radius.resize(kept);
     cloud.resize(kept);
+}
+
+namespace {
+
+/// The low 10 bits of v spread to every third bit.
+uint32_t spreadBits(uint32_t v)
+{
+    v &= 0x3ffu;
+    v = (v | (v << 16)) & 0x30000ffu;
+    v = (v | (v << 8)) & 0x300f00fu;
+    v = (v | (v << 4)) & 0x30c30c3u;
+    v = (v | (v << 2)) & 0x9249249u;
+    return v;
+}
+
+template<typename T>
+void permute(std::vector<T>& values, const std::vector<std::pair<uint32_t, uint32_t>>& order)
+{
+    std::vector<T> sorted(values.size());
+    for (std::size_t i = 0; i < order.size(); ++i) sorted[i] = values[order[i].second];
+    values = std::move(sorted);
+}
+
+} // namespace
+
+void ParticleSet::sortSpatially(const BBoxd& box)
+{
+    constexpr double kCells = 1024.0;
+    const Vec3d extent = box.extents();
+    std::vector<std::pair<uint32_t, uint32_t>> order(size());
+    tbb::parallel_for(std::size_t(0), size(), [&](std::size_t p) {
+        uint32_t cell[3];
+        for (int axis = 0; axis < 3; ++axis) {
+            const double u = extent[axis] > 0.0 ? (double(position[p][axis]) - box.min()[axis]) / extent[axis] : 0.0;
+            cell[axis] = uint32_t(std::clamp(u * kCells, 0.0, kCells - 1.0));
+        }
+        order[p] = {spreadBits(cell[0]) | (spreadBits(cell[1]) << 1) | (spreadBits(cell[2]) << 2), uint32_t(p)};
+    });
+    std::sort(order.begin(), order.end()); // ties by index: the order is fixed
+    permute(position, order);
+    permute(velocity, order);
+    permute(rest, order);
+    permute(id, order);
+    permute(radius, order);
+    permute(cloud, order);
 }
 
 } // namespace vfield

@@ -376,6 +376,7 @@ bool Simulator::resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t,
 
 void Simulator::advanceParticles(double t0, double t1)
 {
+    mParticles.sortSpatially(mDomain);
     const std::size_t n = mParticles.size();
     std::vector<uint8_t> alive(n, 1);
     std::vector<uint32_t> substepsOf(n, 0), contactsOf(n, 0);

@@ -3,7 +3,7 @@
 #include <vfield/core/noise.h>
 #include <vfield/core/options.h>
 
-#include <openvdb/tools/Composite.h>
+#include <openvdb/tools/Filter.h>
 #include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/Morphology.h>
 #include <openvdb/tree/LeafManager.h>
@@ -89,6 +89,10 @@ struct Splat {
 /// Particles per leaf of the fixed reduction tree: the order of float sums
 /// depends on this constant only, not on the threads.
 constexpr std::size_t kParticlesPerChunk = 16384;
+/// A run of particles deposited into one dense box grows while the box holds
+/// at most this many voxels, or this many per particle: the box's zeroing and
+/// transfer stay small next to the deposit.
+constexpr uint64_t kRunVoxels = 4096, kRunVoxelsPerParticle = 16;
 
 /// Dense sums over a box around one leaf's particles, one array per
 /// component so that the innermost loop (along z) is plain arithmetic.
@@ -104,11 +108,68 @@ struct DenseSums {
         const std::size_t n = std::size_t(dim.x()) * std::size_t(dim.y()) * std::size_t(dim.z());
         for (std::vector<float>* a : {&w, &vx, &vy, &vz, &rx, &ry, &rz}) a->assign(n, 0.0f);
     }
-    std::size_t row(int x, int y) const
+    std::size_t at(const openvdb::Coord& c) const
     {
-        return (std::size_t(x - origin.x()) * std::size_t(dim.y()) + std::size_t(y - origin.y())) * std::size_t(dim.z());
+        return (std::size_t(c.x() - origin.x()) * std::size_t(dim.y()) + std::size_t(c.y() - origin.y())) * std::size_t(dim.z()) +
+               std::size_t(c.z() - origin.z());
     }
 };
+
+/// Adds `from`'s leaves into `into` (taking them where `into` has none):
+/// work in proportion to the leaves, where tools::compSum visits every
+/// entry of both trees' internal nodes, most of a splat's time for small chunks.
+template<typename TreeT>
+void addLeaves(TreeT& into, TreeT& from)
+{
+    std::vector<typename TreeT::LeafNodeType*> leaves;
+    from.stealNodes(leaves);
+    for (auto* leaf : leaves) {
+        auto* target = into.probeLeaf(leaf->origin());
+        if (!target) {
+            into.addLeaf(leaf);
+            continue;
+        }
+        for (auto v = leaf->cbeginValueOn(); v; ++v) target->setValueOn(v.pos(), target->getValue(v.pos()) + *v);
+        delete leaf;
+    }
+}
+
+/// Variance along an axis, in voxels squared, of the smooth kernel of radius R
+/// voxels, W(r) ~ (1 - r^2/R^2)^3: R^2 / 11.
+double smoothKernelVariance(double radiusInVoxels) { return radiusInVoxels * radiusInVoxels / 11.0; }
+
+/// Passes of a 3-voxel mean filter after the trilinear deposit (variance 1/6,
+/// each pass adds 2/3) that bring the kernel's spread closest to that of the
+/// smooth kernel of the given radius: at least one, so the kernel is four
+/// voxels wide and smooth to trilinear reads.
+int blurPasses(double radiusInVoxels)
+{
+    return std::max(1, int(std::lround((smoothKernelVariance(radiusInVoxels) - 1.0 / 6.0) * 1.5)));
+}
+
+/// The kernel's weight at its centre, per axis, for a particle at a voxel
+/// centre: the middle of [1 1 1]/3 convolved with itself `passes` times.
+double centreWeight(int passes)
+{
+    std::vector<double> weights{1.0};
+    for (int pass = 0; pass < passes; ++pass) {
+        std::vector<double> next(weights.size() + 2, 0.0);
+        for (std::size_t i = 0; i < weights.size(); ++i)
+            for (std::size_t j = 0; j < 3; ++j) next[i + j] += weights[i] / 3.0;
+        weights = std::move(next);
+    }
+    return weights[weights.size() / 2];
+}
+
+/// OpenVDB's mean filter, `passes` times, over the grid's voxels grown by
+/// as many voxels: the blur reaches every voxel it can give a value to.
+template<typename GridT>
+void blur(GridT& grid, int passes)
+{
+    openvdb::tools::dilateActiveValues(grid.tree(), passes, openvdb::tools::NN_FACE_EDGE_VERTEX, openvdb::tools::IGNORE_TILES);
+    openvdb::tools::Filter<GridT> filter(grid);
+    filter.mean(1, passes);
+}
 
 double smoothstep01(double x)
 {
@@ -189,91 +250,60 @@ DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& o
     meanRadius = particles.size() > 0 ? meanRadius / double(particles.size()) : 1.0;
     const VolumeOptions resolved = options.resolved(meanRadius);
     resolved.validate();
-    const double voxel = resolved.voxelSize, radius = resolved.kernelRadius;
-    const double norm = resolved.densityPerParticle * 315.0 / (64.0 * M_PI * radius * radius * radius);
+    const double voxel = resolved.voxelSize;
+    const int passes = blurPasses(resolved.kernelRadius / voxel);
+    const double perWeight = resolved.densityPerParticle / (voxel * voxel * voxel); // density of a unit weight
+    const bool withRest = resolved.detail.enabled();
     const std::vector<Vec3f>& rest = particles.rest.size() == particles.size() ? particles.rest : particles.position;
 
     const auto transform = openvdb::math::Transform::createLinearTransform(voxel);
-    const int reach = int(std::ceil(radius / voxel));
 
-    // Particles in the order of the OpenVDB leaf (8^3 voxels) they fall in, a
-    // stable sort so the order, and with it every float sum, is fixed: each
-    // chunk then touches few leaves and its accessors stay on them.
-    std::vector<uint32_t> order(particles.size());
-    std::vector<uint64_t> leafKey(particles.size());
-    for (std::size_t p = 0; p < particles.size(); ++p) {
-        const openvdb::Coord c = openvdb::Coord::round(transform->worldToIndex(Vec3d(particles.position[p]))) >> 3;
-        // 21 bits per axis, offset so negative coordinates sort too.
-        leafKey[p] = (uint64_t(c.x() + (1 << 20)) << 42) | (uint64_t(c.y() + (1 << 20)) << 21) | uint64_t(c.z() + (1 << 20));
-        order[p] = uint32_t(p);
-    }
-    std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return leafKey[a] < leafKey[b]; });
+    // Index space is world space over the voxel size (the transform is a pure scale).
+    const double inverseVoxel = 1.0 / voxel;
+    const auto indexOf = [&](std::size_t p) { return openvdb::Vec3d(Vec3d(particles.position[p]) * inverseVoxel); };
 
-    const float reachSqr = float(radius * radius / (voxel * voxel)); // the kernel radius squared, in voxels
-    const float inverseReachSqr = 1.0f / reachSqr;
-    // The particles of one leaf are splatted into dense arrays over the leaf
-    // and the kernel's reach around it, then the voxels they reached are
-    // added to the chunk's grids: the inner loop is plain arithmetic, with no
-    // tree lookups. Each voxel's sum still runs over the particles in order,
-    // so the sums are those of voxel-by-voxel accumulation.
-    const auto splatLeaf = [&](std::size_t first, std::size_t last, DenseSums& sums, Splat& into) {
-        openvdb::CoordBBox box;
-        for (std::size_t n = first; n != last; ++n)
-            box.expand(openvdb::Coord::round(transform->worldToIndex(Vec3d(particles.position[order[n]]))));
-        box.expand(reach);
+    // A run of particles is deposited with their trilinear weights
+    // (cloud-in-cell: the eight voxels around each) into dense arrays over
+    // their box, then the voxels they reached are added to the chunk's grids.
+    // Each voxel's sum runs over the particles in order, so the sums are those
+    // of voxel-by-voxel accumulation.
+    const auto splatRun = [&](std::size_t first, std::size_t last, const openvdb::CoordBBox& box, DenseSums& sums, Splat& into) {
         sums.reset(box);
-        const openvdb::Coord dim = sums.dim;
-        for (std::size_t n = first; n != last; ++n) {
-            const std::size_t p = order[n];
+        for (std::size_t p = first; p != last; ++p) {
             const openvdb::Vec3s v = particles.velocity[p], r = rest[p];
-            const openvdb::Vec3d index = transform->worldToIndex(Vec3d(particles.position[p]));
-            const openvdb::Coord centre = openvdb::Coord::round(index);
-            // The kernel's sphere row by row along z (z is fastest in the
-            // arrays, as in OpenVDB leaves): whole rows of 2 reach + 1 voxels,
-            // weights clamped to zero outside the sphere, no branches.
-            const float dz0 = float(double(centre.z() - reach) - index.z());
-            for (int i = -reach; i <= reach; ++i) {
-                const float dx = float(double(centre.x() + i) - index.x()), dx2 = dx * dx;
-                if (dx2 >= reachSqr) continue;
-                for (int j = -reach; j <= reach; ++j) {
-                    const float dy = float(double(centre.y() + j) - index.y()), dxy2 = dx2 + dy * dy;
-                    if (dxy2 >= reachSqr) continue;
-                    const std::size_t row =
-                        sums.row(centre.x() + i, centre.y() + j) + std::size_t(centre.z() - reach - sums.origin.z());
-                    float* const w = &sums.w[row];
-                    float *const vx = &sums.vx[row], *const vy = &sums.vy[row], *const vz = &sums.vz[row];
-                    float *const rx = &sums.rx[row], *const ry = &sums.ry[row], *const rz = &sums.rz[row];
-                    for (int k = 0; k <= 2 * reach; ++k) {
-                        const float dz = dz0 + float(k);
-                        const float q = std::max(0.0f, 1.0f - (dxy2 + dz * dz) * inverseReachSqr);
-                        const float weight = q * q * q;
-                        w[k] += weight;
-                        vx[k] += v[0] * weight;
-                        vy[k] += v[1] * weight;
-                        vz[k] += v[2] * weight;
-                        rx[k] += r[0] * weight;
-                        ry[k] += r[1] * weight;
-                        rz[k] += r[2] * weight;
+            const openvdb::Vec3d index = indexOf(p);
+            const openvdb::Coord base = openvdb::Coord::floor(index);
+            const float fx = float(index.x() - base.x()), fy = float(index.y() - base.y()), fz = float(index.z() - base.z());
+            const float wx[2] = {1.0f - fx, fx}, wy[2] = {1.0f - fy, fy}, wz[2] = {1.0f - fz, fz};
+            for (int i = 0; i < 2; ++i)
+                for (int j = 0; j < 2; ++j) {
+                    const std::size_t row = sums.at(base.offsetBy(i, j, 0));
+                    for (int k = 0; k < 2; ++k) {
+                        const float weight = wx[i] * wy[j] * wz[k];
+                        const std::size_t at = row + std::size_t(k);
+                        sums.w[at] += weight;
+                        sums.vx[at] += v[0] * weight;
+                        sums.vy[at] += v[1] * weight;
+                        sums.vz[at] += v[2] * weight;
+                        if (!withRest) continue;
+                        sums.rx[at] += r[0] * weight;
+                        sums.ry[at] += r[1] * weight;
+                        sums.rz[at] += r[2] * weight;
                     }
                 }
-            }
         }
         auto weightAccessor = into.weight->getAccessor();
         auto momentumAccessor = into.momentum->getAccessor();
         auto restAccessor = into.rest->getAccessor();
-        for (int x = 0; x < dim.x(); ++x)
-            for (int y = 0; y < dim.y(); ++y) {
-                const std::size_t row = sums.row(sums.origin.x() + x, sums.origin.y() + y);
-                for (int z = 0; z < dim.z(); ++z) {
-                    const std::size_t at = row + std::size_t(z);
-                    if (sums.w[at] == 0.0f) continue;
-                    const openvdb::Coord c = sums.origin.offsetBy(x, y, z);
-                    weightAccessor.setValueOn(c, weightAccessor.getValue(c) + sums.w[at]);
-                    momentumAccessor.setValueOn(c, momentumAccessor.getValue(c) +
-                                                       openvdb::Vec3s(sums.vx[at], sums.vy[at], sums.vz[at]));
-                    restAccessor.setValueOn(c, restAccessor.getValue(c) + openvdb::Vec3s(sums.rx[at], sums.ry[at], sums.rz[at]));
-                }
-            }
+        for (auto c = box.begin(); c; ++c) {
+            const std::size_t at = sums.at(*c);
+            if (sums.w[at] == 0.0f) continue;
+            weightAccessor.setValueOn(*c, weightAccessor.getValue(*c) + sums.w[at]);
+            momentumAccessor.setValueOn(*c,
+                                        momentumAccessor.getValue(*c) + openvdb::Vec3s(sums.vx[at], sums.vy[at], sums.vz[at]));
+            if (withRest)
+                restAccessor.setValueOn(*c, restAccessor.getValue(*c) + openvdb::Vec3s(sums.rx[at], sums.ry[at], sums.rz[at]));
+        }
     };
 
     Splat total = tbb::parallel_deterministic_reduce(
@@ -281,21 +311,40 @@ DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& o
         [&](const tbb::blocked_range<std::size_t>& range, const Splat&) {
             Splat partial(transform); // its own grids: the identity's are shared by every chunk
             DenseSums sums;
+            // Runs of consecutive particles whose box stays small next to
+            // their number: the simulator keeps particles in spatial order
+            // (ParticleSet::sortSpatially), so runs are long where the cloud is dense.
+            const auto reached = [&](std::size_t p) { // the eight voxels a particle deposits into
+                const openvdb::Coord corner = openvdb::Coord::floor(indexOf(p));
+                return openvdb::CoordBBox(corner, corner + openvdb::Coord(1));
+            };
             for (std::size_t first = range.begin(); first != range.end();) {
+                openvdb::CoordBBox box = reached(first);
                 std::size_t last = first + 1;
-                while (last != range.end() && leafKey[order[last]] == leafKey[order[first]]) ++last;
-                splatLeaf(first, last, sums, partial);
+                for (; last != range.end(); ++last) {
+                    openvdb::CoordBBox grown = box;
+                    grown.expand(reached(last));
+                    if (grown.volume() > std::max<uint64_t>(kRunVoxels, kRunVoxelsPerParticle * (last - first + 1))) break;
+                    box = grown;
+                }
+                splatRun(first, last, box, sums, partial);
                 first = last;
             }
             return partial;
         },
-        [](Splat a, const Splat& b) {
-            openvdb::tools::compSum(*a.weight, *b.weight);
-            openvdb::tools::compSum(*a.momentum, *b.momentum);
-            openvdb::tools::compSum(*a.rest, *b.rest);
+        [](Splat a, const Splat& b) { // b is discarded after the join: its leaves are taken
+            addLeaves(a.weight->tree(), b.weight->tree());
+            addLeaves(a.momentum->tree(), b.momentum->tree());
+            addLeaves(a.rest->tree(), b.rest->tree());
             return a;
         },
         tbb::simple_partitioner());
+
+    // The sums blurred: the kernel is the trilinear weights blurred, and the
+    // means (velocity, rest) are of the blurred weights.
+    blur(*total.weight, passes);
+    blur(*total.momentum, passes);
+    if (withRest) blur(*total.rest, passes);
 
     DensityGrids grids;
     grids.density = openvdb::FloatGrid::create(0.0f);
@@ -313,12 +362,14 @@ DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& o
     for (auto it = total.weight->cbeginValueOn(); it; ++it) {
         const float w = *it;
         if (!(w > 0.0f)) continue;
-        density.setValue(it.getCoord(), float(norm * w));
+        density.setValue(it.getCoord(), float(perWeight * w));
         velocity.setValue(it.getCoord(), momentum.getValue(it.getCoord()) / w);
-        if (resolved.detail.enabled()) restMean.setValue(it.getCoord(), restSum.getValue(it.getCoord()) / w);
+        if (withRest) restMean.setValue(it.getCoord(), restSum.getValue(it.getCoord()) / w);
     }
-    if (resolved.detail.enabled()) {
-        const double softness = resolved.detail.edgeSoftness > 0.0 ? resolved.detail.edgeSoftness : norm;
+    if (withRest) {
+        // By default the edge is the peak density of one lone particle.
+        const double lonePeak = perWeight * std::pow(centreWeight(passes), 3);
+        const double softness = resolved.detail.edgeSoftness > 0.0 ? resolved.detail.edgeSoftness : lonePeak;
         grids.density = detailedDensity(*grids.density, *restGrid, resolved.detail, softness);
     }
     grids.density->setName("density");

@@ -65,10 +65,7 @@ CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, d
     if (!mLighting.clip(origin, dir, tMin, tMax)) return segment;
     const openvdb::FloatGrid& densityGrid = mLighting.density();
     openvdb::FloatGrid::ConstAccessor density = densityGrid.getConstAccessor();
-    openvdb::FloatGrid::ConstAccessor sun = mLighting.sunInCloudGrid().getConstAccessor();
-    openvdb::FloatGrid::ConstAccessor sky = mLighting.skyTransmittanceGrid().getConstAccessor();
     const openvdb::math::Transform& densityTransform = densityGrid.transform();
-    const openvdb::math::Transform& lightTransform = mLighting.sunInCloudGrid().transform(); // both grids share it
     // Sunlight travels along -toSun and leaves towards the origin along -dir:
     // the angle between the two is that between dir and toSun.
     std::array<double, 8> octavePhase{}; // MultipleScattering::octaves is at most 8
@@ -87,10 +84,7 @@ CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, d
             const double rho = sampleDensity(density, densityTransform, p);
             if (rho <= 0.0) continue;
             const double stepTransmittance = std::exp(-mExtinction * rho * dt);
-            const openvdb::Vec3d index = lightTransform.worldToIndex(p);
-            float sunT, skyT;
-            openvdb::tools::BoxSampler::sample(sun, index, sunT);
-            openvdb::tools::BoxSampler::sample(sky, index, skyT);
+            const float sunT = mLighting.sunInCloud(p), skyT = mLighting.skyTransmittance(p);
             // In-scattered light of the step, integrated exactly for constant density:
             // (1 - e^(-sigma_t dt)) * albedo * source. The sky lights the cloud
             // through the cloud above it, so bases darken and tops stay bright.

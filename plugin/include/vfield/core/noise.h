@@ -13,6 +13,12 @@
 
 namespace vfield {
 
+/// A noise value and its gradient (d value / d p).
+struct NoiseSample {
+    float value = 0.0f;
+    Vec3f gradient{0.0f};
+};
+
 class GradientNoise {
 public:
     explicit GradientNoise(uint64_t seed);
@@ -20,6 +26,8 @@ public:
     /// Values in about [-1, 1], zero at integer lattice points; period 256.
     float operator()(float x, float y) const;
     float operator()(float x, float y, float z) const;
+    /// The 3D value (equal to operator() but for rounding) with its exact gradient.
+    NoiseSample sample(const Vec3f& p) const;
 
 private:
     int hash(int x) const { return mPermutation[x & 255]; }
@@ -36,6 +44,8 @@ struct FractalOptions {
 /// Fractional Brownian motion: the sum of octaves, normalised to about [-1, 1].
 float fbm(const GradientNoise& noise, const Vec3f& p, const FractalOptions& options);
 float fbm(const GradientNoise& noise, float x, float y, const FractalOptions& options);
+/// fbm in 3D with its exact gradient, with respect to p.
+NoiseSample fbmSample(const GradientNoise& noise, const Vec3f& p, const FractalOptions& options);
 
 /// Musgrave's ridged multifractal in 2D, about [0, 1]: sharp crests where the
 /// noise crosses zero, each octave weighted by the one before, so crests carry

@@ -7,6 +7,7 @@
 /// the back-ends: vfield's renderer shades with it, the POV-Ray export writes
 /// the sky-lit density from it.
 
+#include <vfield/core/dense_grid.h>
 #include <vfield/render/render_settings.h>
 
 #include <openvdb/openvdb.h>
@@ -43,25 +44,23 @@ public:
     /// come from their own shadow rays, so a surface beside a shadowed grid
     /// point is not darkened by interpolation.
     double sunTransmittance(const Vec3d& p) const;
-    /// The grids the cloud's own samples read (sharing one transform): the
-    /// sun's transmittance through the cloud, zero where a surface blocks the
-    /// sun, and the sky's transmittance from above.
-    const openvdb::FloatGrid& sunInCloudGrid() const { return *mSunInCloud; }
-    const openvdb::FloatGrid& skyTransmittanceGrid() const { return *mSkyTransmittance; }
+    /// What the cloud's own samples read, trilinearly from the light grids,
+    /// unclamped: the sun's transmittance through the cloud, zero where a
+    /// surface blocks the sun, and the sky's transmittance from above.
+    float sunInCloud(const Vec3d& p) const { return mSunInCloud.at(p); }
+    float skyTransmittance(const Vec3d& p) const { return mSkyTransmittance.at(p); }
 
     /// Density x the sky's transmittance down to each voxel: where the cloud
     /// scatters the sky's light, and how much (same voxels as the density).
     openvdb::FloatGrid::Ptr skyLitDensity() const;
 
 private:
-    /// The cloud's transmittance towards a light (unit direction) over the box, coarser than the density.
-    openvdb::FloatGrid::Ptr transmittanceGrid(const Vec3d& towards) const;
-    /// A copy of a transmittance grid with zero where a surface blocks the light.
-    static openvdb::FloatGrid::Ptr withSurfaceShadows(const openvdb::FloatGrid& transmittance, const Vec3d& towards,
-                                                      const Occlusion& blocked);
+    /// The cloud's transmittance towards a light (unit direction) at the
+    /// points of the light grid, through the coarse density (cell-centred on it).
+    DenseGrid transmittanceTowards(const DenseGrid& coarse, const Vec3d& towards) const;
 
     openvdb::FloatGrid::ConstPtr mDensity;
-    openvdb::FloatGrid::Ptr mSunTransmittance, mSunInCloud, mSkyTransmittance;
+    DenseGrid mSunTransmittance, mSunInCloud, mSkyTransmittance;
     BBoxd mBounds;
     Vec3d mToSun;
     double mExtinction;

@@ -1,7 +1,7 @@
 #pragma once
 /// @file particles.h
-/// Particle state, structure of arrays in spawn order (removed particles are
-/// compacted away, the order of the rest kept). World space.
+/// Particle state, structure of arrays, world space. The simulator keeps the
+/// particles in spatial order (sortSpatially); `id` names a particle.
 
 #include <vfield/core/math.h>
 
@@ -25,6 +25,11 @@ struct ParticleSet {
     void reserve(std::size_t n);
     /// Keeps the particles whose flag is set, in order.
     void keep(const std::vector<uint8_t>& alive);
+    /// Reorders the particles along a Morton curve over the box (1024 cells a
+    /// side; outside it, clamped to its faces), ties in their current order:
+    /// particles near in space become near in memory, so field lookups and
+    /// splats read memory in order rather than at random.
+    void sortSpatially(const BBoxd& box);
 };
 
 } // namespace vfield

@@ -8,12 +8,17 @@
 /// (where its particles were emitted), so the detail is attached to the
 /// material: it travels and deforms with the cloud instead of swimming through it.
 ///
-/// Each particle spreads densityPerParticle over a smooth kernel of radius R,
-/// W(r) = 315 / (64 pi R^3) (1 - r^2/R^2)^3, which integrates to 1: the grid's
-/// integral is particles x densityPerParticle, and a particle's contribution
-/// fades smoothly to zero at R, so nothing pops as particles move. `vel` is
-/// the kernel-weighted mean velocity. Sums run in a fixed order whatever the
-/// thread count, so grids are identical for any number of threads.
+/// Each particle spreads densityPerParticle over a smooth kernel: its
+/// trilinear (cloud-in-cell) weights on the eight voxels around it, blurred by
+/// passes of OpenVDB's 3-voxel mean filter, as many as bring the kernel's
+/// spread closest to that of W(r) = 315 / (64 pi R^3) (1 - r^2/R^2)^3 of radius
+/// R = kernelRadius (per-axis variance R^2 / 11), at least one. The kernel
+/// integrates to 1, so the grid's integral is particles x densityPerParticle;
+/// it is four voxels wide or more and moves continuously with the particle,
+/// so nothing pops. Depositing eight weights a particle and blurring the grid
+/// once costs far less than spreading every particle over its whole kernel.
+/// `vel` is the kernel-weighted mean velocity. Sums run in a fixed order
+/// whatever the thread count, so grids are identical for any number of threads.
 
 #include <vfield/core/json.h>
 #include <vfield/sim/particles.h>
@@ -43,8 +48,9 @@ struct VolumeDetail {
 struct VolumeOptions {
     static constexpr double kMaxKernelVoxels = 32.0; ///< the kernel's radius spans at most this many voxels
 
-    double voxelSize = 0.0;          ///< world units (0..1e9); 0: the particles' mean radius
-    double kernelRadius = 0.0;       ///< world units (0..1e9); 0: 2 x the particles' mean radius; at least one voxel
+    double voxelSize = 0.0;    ///< world units (0..1e9); 0: the particles' mean radius
+    double kernelRadius = 0.0; ///< world units (0..1e9): the spread of the smooth kernel matched; 0: 2 x the particles' mean
+                               ///< radius; at least one voxel
     double densityPerParticle = 1.0; ///< density integral of one particle (0..1e12; extinction is density x sigma)
     VolumeDetail detail;
 

@@ -1,0 +1,67 @@
+#include <vfield/core/noise.h>
+
+#include <catch2/catch.hpp>
+
+#include <random>
+
+using namespace vfield;
+
+namespace {
+
+/// Central differences of f at p, in double, over a step small against the
+/// finest octave's period and large against float rounding at p.
+template <typename F> Vec3d centralDifferences(const F& f, const Vec3f& p, float step)
+{
+    Vec3d gradient;
+    for (int axis = 0; axis < 3; ++axis) {
+        Vec3f plus = p, minus = p;
+        plus[axis] += step;
+        minus[axis] -= step;
+        gradient[axis] = (double(f(plus)) - double(f(minus))) / double(plus[axis] - minus[axis]);
+    }
+    return gradient;
+}
+
+} // namespace
+
+TEST_CASE("noise: a sample's value is the noise and its gradient the noise's derivative", "[noise]")
+{
+    const GradientNoise noise(42);
+    std::mt19937 random(5);
+    std::uniform_real_distribution<float> coordinate(-40.0f, 40.0f);
+    double worstValue = 0.0, worstGradient = 0.0, largestGradient = 0.0;
+    for (int n = 0; n < 2000; ++n) {
+        const Vec3f p(coordinate(random), coordinate(random), coordinate(random));
+        const NoiseSample s = noise.sample(p);
+        worstValue = std::max(worstValue, std::abs(double(s.value) - double(noise(p[0], p[1], p[2]))));
+        const Vec3d expected = centralDifferences([&](const Vec3f& q) { return noise(q[0], q[1], q[2]); }, p, 1e-2f);
+        worstGradient = std::max(worstGradient, (Vec3d(s.gradient) - expected).length());
+        largestGradient = std::max(largestGradient, expected.length());
+    }
+    INFO("worst value error " << worstValue << ", worst gradient error " << worstGradient << " of gradients up to "
+                              << largestGradient);
+    CHECK(worstValue < 1e-5);
+    CHECK(largestGradient > 1.0); // the gradients compared are not all near zero
+    CHECK(worstGradient < 2e-3 * largestGradient);
+}
+
+TEST_CASE("noise: fBm's sampled gradient is the derivative of fBm over every octave", "[noise]")
+{
+    const GradientNoise noise(7);
+    const FractalOptions options{4, 2.0, 0.5};
+    std::mt19937 random(11);
+    std::uniform_real_distribution<float> coordinate(-10.0f, 10.0f);
+    double worstValue = 0.0, worstGradient = 0.0, largestGradient = 0.0;
+    for (int n = 0; n < 2000; ++n) {
+        const Vec3f p(coordinate(random), coordinate(random), coordinate(random));
+        const NoiseSample s = fbmSample(noise, p, options);
+        worstValue = std::max(worstValue, std::abs(double(s.value) - double(fbm(noise, p, options))));
+        const Vec3d expected = centralDifferences([&](const Vec3f& q) { return fbm(noise, q, options); }, p, 1e-3f);
+        worstGradient = std::max(worstGradient, (Vec3d(s.gradient) - expected).length());
+        largestGradient = std::max(largestGradient, expected.length());
+    }
+    INFO("worst value error " << worstValue << ", worst gradient error " << worstGradient << " of gradients up to "
+                              << largestGradient);
+    CHECK(worstValue < 1e-5);
+    CHECK(worstGradient < 2e-3 * largestGradient);
+}
