@@ -10,7 +10,8 @@ namespace {
 
 /// Central differences of f at p, in double, over a step small against the
 /// finest octave's period and large against float rounding at p.
-template <typename F> Vec3d centralDifferences(const F& f, const Vec3f& p, float step)
+template<typename F>
+Vec3d centralDifferences(const F& f, const Vec3f& p, float step)
 {
     Vec3d gradient;
     for (int axis = 0; axis < 3; ++axis) {

@@ -29,37 +29,49 @@ float noiseAt(const Vec3d& p, double frequency, int octaves)
     return fbm(terrainNoise(), Vec3f(p * frequency), FractalOptions{octaves, 2.0, 0.5});
 }
 
+/// The bump noise's frequency (1 / world units).
+constexpr double kBumpFrequency = 1.0 / 2.5;
+
 } // namespace
 
-Vec3d surfaceAlbedo(SurfaceMaterial material, const Vec3d& position, const Vec3d& normal, double low, double high)
+SurfaceNoise surfaceNoise(SurfaceMaterial material, const Vec3d& position)
+{
+    SurfaceNoise noise;
+    if (material == SurfaceMaterial::Painted) return noise;
+    noise.bumpGradient =
+        Vec3d(fbmSample(terrainNoise(), Vec3f(position * kBumpFrequency), FractalOptions{2, 2.0, 0.5}).gradient) * kBumpFrequency;
+    noise.broad = noiseAt(position, 1.0 / 40.0, 3);
+    noise.fine = noiseAt(position, 1.0 / 3.0, 3);
+    noise.stone = noiseAt(position + Vec3d(0, 3.1 * position[1], 0), 1.0 / 6.0, 2);
+    return noise;
+}
+
+Vec3d surfaceAlbedo(SurfaceMaterial material, const Vec3d& position, const Vec3d& normal, double low, double high,
+                    const SurfaceNoise& noise)
 {
     if (material == SurfaceMaterial::Painted) return Vec3d(0.62, 0.62, 0.66);
     // Grass low and flat, rock where steep, snow high and flat; the borders
     // between them wander with the noise, as do the colours within each.
     const Vec3d grass(0.11, 0.2, 0.05), dryGrass(0.26, 0.24, 0.11), rock(0.24, 0.2, 0.16), darkRock(0.1, 0.09, 0.08),
         snow(0.85, 0.87, 0.9);
-    const double broad = noiseAt(position, 1.0 / 40.0, 3), fine = noiseAt(position, 1.0 / 3.0, 3);
+    const double broad = noise.broad, fine = noise.fine;
     const double height = (high > low ? (position[1] - low) / (high - low) : 0.0) + 0.08 * broad;
     const double slope = normal[1] + 0.12 * fine;
     Vec3d colour = lerp(grass, dryGrass, smoothstep(0.25, 0.75, height + 0.25 * broad));
     colour *= 0.8 + 0.4 * (0.5 + 0.5 * fine);
-    if (const double steep = smoothstep(0.72, 0.55, slope); steep > 0.0) {
-        const Vec3d stone = lerp(darkRock, rock, 0.5 + 0.5 * noiseAt(position + Vec3d(0, 3.1 * position[1], 0), 1.0 / 6.0, 2));
-        colour = lerp(colour, stone, steep);
-    }
+    const Vec3d stone = lerp(darkRock, rock, 0.5 + 0.5 * noise.stone);
+    colour = lerp(colour, stone, smoothstep(0.72, 0.55, slope));
     return lerp(colour, snow, smoothstep(0.85, 0.95, height) * smoothstep(0.5, 0.75, slope));
 }
 
-Vec3d shadingNormal(SurfaceMaterial material, const Vec3d& position, const Vec3d& normal)
+Vec3d shadingNormal(SurfaceMaterial material, const Vec3d& normal, const SurfaceNoise& noise)
 {
     if (material == SurfaceMaterial::Painted) return normal;
     // Bumps a few units across: the noise's gradient tilts the normal, its
     // part along the normal removed.
-    constexpr double kFrequency = 1.0 / 2.5, kStrength = 0.6;
-    Vec3d gradient =
-        Vec3d(fbmSample(terrainNoise(), Vec3f(position * kFrequency), FractalOptions{2, 2.0, 0.5}).gradient) * kFrequency;
-    gradient -= normal * gradient.dot(normal);
-    return (normal - gradient * (kStrength / kFrequency * 0.1)).unitSafe();
+    constexpr double kStrength = 0.6;
+    const Vec3d gradient = noise.bumpGradient - normal * noise.bumpGradient.dot(normal);
+    return (normal - gradient * (kStrength / kBumpFrequency * 0.1)).unitSafe();
 }
 
 Vec3d skyDomeRadiance(const SkySettings& sky, const Vec3d& dir)

@@ -104,8 +104,8 @@ RenderImage renderReference(const FrameToRender& f)
     return renderCameraSamples(f, [&] {
         // An accessor per tile: they cache tree nodes and are not shared between threads.
         using Accessor = std::optional<openvdb::FloatGrid::ConstAccessor>;
-        return [&, density = medium.present() ? Accessor(medium.accessor()) : Accessor()](const Vec3d& cameraDir,
-                                                                                          SampleRandom& random) mutable {
+        return [&, density = medium.present() ? Accessor(medium.accessor())
+                                              : Accessor()](const Vec3d& cameraDir, SampleRandom& random, uint32_t) mutable {
             // The sun's light reaching p (offset off any surface) through surfaces and cloud.
             const auto sunReaching = [&](const Vec3d& p) {
                 if (f.surfaces->occluded(p, toSun, 0.0, kInfinity)) return 0.0;

@@ -9,23 +9,32 @@
 
 namespace vfield {
 
+SurfaceMaterial surfaceMaterial(const FrameToRender& frame, int object)
+{
+    const auto material = frame.materials.find(object);
+    return material != frame.materials.end() ? material->second : SurfaceMaterial::Painted;
+}
+
+SurfaceShading surfaceShading(const FrameToRender& frame, const SurfaceHit& hit, const SurfaceNoise& noise)
+{
+    const SurfaceMaterial kind = surfaceMaterial(frame, hit.object);
+    const Vec3d normal = shadingNormal(kind, hit.normal, noise);
+    return {normal, surfaceAlbedo(kind, hit.position, normal, frame.terrainLow, frame.terrainHigh, noise)};
+}
+
 SurfaceShading surfaceShading(const FrameToRender& frame, const SurfaceHit& hit)
 {
-    const auto material = frame.materials.find(hit.object);
-    const SurfaceMaterial kind = material != frame.materials.end() ? material->second : SurfaceMaterial::Painted;
-    const Vec3d normal = shadingNormal(kind, hit.position, hit.normal);
-    return {normal, surfaceAlbedo(kind, hit.position, normal, frame.terrainLow, frame.terrainHigh)};
+    return surfaceShading(frame, hit, surfaceNoise(surfaceMaterial(frame, hit.object), hit.position));
 }
 
 namespace {
 
 /// The light a surface point sends back as the fast integrator sees it: the
 /// sun (shadowed by surfaces, softened through the cloud) and the sky.
-Vec3d directlyLitSurface(const FrameToRender& f, const SurfaceHit& hit)
+Vec3d directlyLitSurface(const FrameToRender& f, const SurfaceHit& hit, const SurfaceShading& surface)
 {
     const RenderSettings& s = *f.settings;
     const Vec3d toSun = s.sun.direction.unitSafe(), sunRadiance = s.sun.color * s.sun.intensity;
-    const SurfaceShading surface = surfaceShading(f, hit);
     const Vec3d offset = hit.position + hit.geometricNormal * 1e-3 * (1.0 + hit.distance);
     double sun = std::max(0.0, surface.normal.dot(toSun));
     if (sun > 0 && f.surfaces->occluded(offset, toSun, 0.0, std::numeric_limits<double>::max())) sun = 0.0;
@@ -52,13 +61,15 @@ Vec3d groundRadianceBelow(const FrameToRender& f)
                              box.min()[2] + (k + 0.5) / kRays * (box.max()[2] - box.min()[2]));
             SurfaceHit hit;
             const bool ground = f.surfaces->intersect(from, Vec3d(0, -1, 0), 0.0, std::numeric_limits<double>::max(), hit);
-            sum += ground ? directlyLitSurface(f, hit) : s.sky.horizonColor * s.sky.intensity;
+            sum += ground ? directlyLitSurface(f, hit, surfaceShading(f, hit)) : s.sky.horizonColor * s.sky.intensity;
         }
     return sum / double(kRays * kRays);
 }
 
 /// IntegratorKind::Fast: surfaces lit directly by the sun and the sky; the
-/// cloud ray-marched in front of them (CloudVolume).
+/// cloud ray-marched in front of them (CloudVolume). A surface's noise is drawn
+/// once per pixel (at its first sample on that surface); its geometry, light
+/// and shadows at every sample.
 RenderImage renderFast(const FrameToRender& f)
 {
     const RenderSettings& s = *f.settings;
@@ -66,16 +77,24 @@ RenderImage renderFast(const FrameToRender& f)
     const Vec3d skyAmbient = cloudAmbientRadiance(s.sky, groundRadianceBelow(f));
 
     return renderCameraSamples(f, [&] {
-        return [&](const Vec3d& dir, SampleRandom& random) {
+        struct PixelNoise {
+            uint32_t pixel = std::numeric_limits<uint32_t>::max();
+            int object = -1;
+            SurfaceNoise noise;
+        };
+        return [&, drawn = PixelNoise()](const Vec3d& dir, SampleRandom& random, uint32_t pixel) mutable {
             CameraSample seen;
             SurfaceHit hit;
             const bool isSurface = f.surfaces->intersect(f.camera.position(), dir, 0.0, std::numeric_limits<double>::max(), hit);
+            if (isSurface && (drawn.pixel != pixel || drawn.object != hit.object))
+                drawn = {pixel, hit.object, surfaceNoise(surfaceMaterial(f, hit.object), hit.position)};
             // Premultiplied: a drawn sky is an opaque background; a
             // transparent one adds neither light nor coverage.
             const bool drawSky = !s.image.transparentSky;
-            seen.radiance = isSurface ? throughHaze(s.sky, directlyLitSurface(f, hit), hit.distance)
-                            : drawSky ? skyRadiance(s, dir)
-                                      : Vec3d(0.0);
+            seen.radiance =
+                isSurface ? throughHaze(s.sky, directlyLitSurface(f, hit, surfaceShading(f, hit, drawn.noise)), hit.distance)
+                : drawSky ? skyRadiance(s, dir)
+                          : Vec3d(0.0);
             seen.alpha = isSurface || drawSky ? 1.0 : 0.0;
             if (f.volume) {
                 const CloudVolume::Segment cloud = f.volume->march(f.camera.position(), dir, 0.0, isSurface ? hit.distance : 1e30,

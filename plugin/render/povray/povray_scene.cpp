@@ -51,7 +51,10 @@ void writeMesh(std::ostream& out, const PovrayMesh& m, double terrainLow, double
         out << "  texture_list { " << points.size();
         for (std::size_t i = 0; i < points.size(); ++i)
             out << ",\n    texture { pigment { rgb "
-                << vec(surfaceAlbedo(m.material, points[i], normals[i], terrainLow, terrainHigh), 5) << " } }";
+                << vec(surfaceAlbedo(m.material, points[i], normals[i], terrainLow, terrainHigh,
+                                     surfaceNoise(m.material, points[i])),
+                       5)
+                << " } }";
         out << "\n  }\n";
     }
     out << "  face_indices { " << mesh.triangleCount();
@@ -61,7 +64,8 @@ void writeMesh(std::ostream& out, const PovrayMesh& m, double terrainLow, double
     }
     out << "\n  }\n";
     if (!perPointColour)
-        out << "  texture { pigment { rgb " << vec(surfaceAlbedo(m.material, Vec3d(0.0), Vec3d(0, 1, 0), 0, 1), 5) << " } }\n";
+        out << "  texture { pigment { rgb " << vec(surfaceAlbedo(m.material, Vec3d(0.0), Vec3d(0, 1, 0), 0, 1, SurfaceNoise{}), 5)
+            << " } }\n";
     out << "}\n";
 }
 

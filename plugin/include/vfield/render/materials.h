@@ -13,14 +13,25 @@ enum class SurfaceMaterial {
     Painted  ///< one base colour
 };
 
+/// The world-space noise a surface's shading draws at a point (none for
+/// painted surfaces). Apart from the shading so that a renderer can draw it
+/// once per pixel and surface, as a texture is filtered: its finest feature,
+/// 0.75 units across, spans several pixels at the showcases' distances.
+struct SurfaceNoise {
+    Vec3d bumpGradient{0.0};                     ///< of the bump noise, per world unit
+    double broad = 0.0, fine = 0.0, stone = 0.0; ///< colour noise at three scales, about [-1, 1]
+};
+SurfaceNoise surfaceNoise(SurfaceMaterial material, const Vec3d& position);
+
 /// Diffuse reflectance (linear RGB) of a surface point with unit normal
 /// `normal`; terrain colours depend on where the height lies in [low, high],
-/// on the slope, and on world-space noise from metres to pixels across.
-Vec3d surfaceAlbedo(SurfaceMaterial material, const Vec3d& position, const Vec3d& normal, double low, double high);
+/// on the slope, and on the noise at the point.
+Vec3d surfaceAlbedo(SurfaceMaterial material, const Vec3d& position, const Vec3d& normal, double low, double high,
+                    const SurfaceNoise& noise);
 
-/// The normal to shade with: terrain's is tilted by bumps of world-space
-/// noise a few units across; painted surfaces keep theirs.
-Vec3d shadingNormal(SurfaceMaterial material, const Vec3d& position, const Vec3d& normal);
+/// The normal to shade with: terrain's is tilted by the bumps of its noise, a
+/// few units across; painted surfaces keep theirs.
+Vec3d shadingNormal(SurfaceMaterial material, const Vec3d& normal, const SurfaceNoise& noise);
 
 /// The sky dome's radiance in a unit direction: a gradient from horizon to
 /// zenith over the lower half of the sky, haze below the horizon. What lights

@@ -25,7 +25,8 @@ struct CameraSample {
 
 /// makeSampler() is called once per tile (so that it can hold per-thread
 /// state such as grid accessors) and returns a callable
-/// CameraSample(const Vec3d& dir, SampleRandom& random) for unit camera directions.
+/// CameraSample(const Vec3d& dir, SampleRandom& random, uint32_t pixel) for
+/// unit camera directions; a pixel's samples come one after another.
 template<typename MakeSampler>
 RenderImage renderCameraSamples(const FrameToRender& f, const MakeSampler& makeSampler)
 {
@@ -51,7 +52,7 @@ RenderImage renderCameraSamples(const FrameToRender& f, const MakeSampler& makeS
                     // One sample at the pixel centre, the rest jittered over it.
                     const double jx = samplesPerPixel == 1 ? 0.5 : random.next();
                     const double jy = samplesPerPixel == 1 ? 0.5 : random.next();
-                    const CameraSample seen = sampler(f.camera.direction(x + jx, y + jy), random);
+                    const CameraSample seen = sampler(f.camera.direction(x + jx, y + jy), random, pixel);
                     colour += seen.radiance;
                     alpha += seen.alpha;
                     depth = std::min(depth, seen.depth);

@@ -35,11 +35,14 @@ struct FrameToRender {
 RenderImage renderFrame(const FrameToRender& frame);
 
 /// A surface point as every integrator shades it: the normal to shade with
-/// and its diffuse albedo, from its object's material.
+/// and its diffuse albedo, from its object's material and the noise at the
+/// point, or the noise given (drawn elsewhere in the pixel: see SurfaceNoise).
 struct SurfaceShading {
     Vec3d normal;
     Vec3d albedo;
 };
+SurfaceMaterial surfaceMaterial(const FrameToRender& frame, int object);
 SurfaceShading surfaceShading(const FrameToRender& frame, const SurfaceHit& hit);
+SurfaceShading surfaceShading(const FrameToRender& frame, const SurfaceHit& hit, const SurfaceNoise& noise);
 
 } // namespace vfield
