@@ -1,6 +1,7 @@
 #include <vfield/sim/particles.h>
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <cmath>
@@ -75,7 +76,7 @@ void ParticleSet::sortSpatially(const BBoxd& box)
         }
         order[p] = {spreadBits(cell[0]) | (spreadBits(cell[1]) << 1) | (spreadBits(cell[2]) << 2), uint32_t(p)};
     });
-    std::sort(order.begin(), order.end()); // ties by index: the order is fixed
+    tbb::parallel_sort(order.begin(), order.end()); // (key, index) pairs are distinct: one order for any thread count
     permute(position, order);
     permute(velocity, order);
     permute(rest, order);
