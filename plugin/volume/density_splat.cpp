@@ -69,8 +69,8 @@ VolumeOptions volumeOptionsFromJson(const JsonValue& json)
 
 namespace {
 
-/// Unnormalized sums over a range of particles: of the kernel weights W, and
-/// of W v and W rest, whose ratios to the weights are the mean velocity and
+/// Unnormalized sums over a range of particles: of their deposited weights
+/// W, and of W v and W rest, whose ratios to the weights are the mean velocity and
 /// rest position.
 struct Splat {
     openvdb::FloatGrid::Ptr weight;
@@ -94,7 +94,7 @@ constexpr std::size_t kParticlesPerChunk = 16384;
 /// transfer stay small next to the deposit.
 constexpr uint64_t kRunVoxels = 4096, kRunVoxelsPerParticle = 16;
 
-/// Dense sums over a box around one leaf's particles, one array per
+/// Dense sums over the box a run of particles deposits into, one array per
 /// component so that the innermost loop (along z) is plain arithmetic.
 struct DenseSums {
     openvdb::Coord origin, dim;
@@ -117,7 +117,7 @@ struct DenseSums {
 
 /// Adds `from`'s leaves into `into` (taking them where `into` has none):
 /// work in proportion to the leaves, where tools::compSum visits every
-/// entry of both trees' internal nodes, most of a splat's time for small chunks.
+/// entry of both trees' internal nodes (a third of the splat's time).
 template<typename TreeT>
 void addLeaves(TreeT& into, TreeT& from)
 {
@@ -312,8 +312,10 @@ DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& o
             Splat partial(transform); // its own grids: the identity's are shared by every chunk
             DenseSums sums;
             // Runs of consecutive particles whose box stays small next to
-            // their number: the simulator keeps particles in spatial order
-            // (ParticleSet::sortSpatially), so runs are long where the cloud is dense.
+            // their number: the simulator keeps particles in about spatial
+            // order (ParticleSet::sortSpatially every few frames), so runs are
+            // long where the cloud is dense; in random order they are short,
+            // and the splat about ten times slower.
             const auto reached = [&](std::size_t p) { // the eight voxels a particle deposits into
                 const openvdb::Coord corner = openvdb::Coord::floor(indexOf(p));
                 return openvdb::CoordBBox(corner, corner + openvdb::Coord(1));

@@ -1,7 +1,8 @@
 #pragma once
 /// @file particles.h
-/// Particle state, structure of arrays, world space. The simulator keeps the
-/// particles in spatial order (sortSpatially); `id` names a particle.
+/// Particle state, structure of arrays, world space. The simulator re-sorts
+/// the particles into spatial order every few frames (sortSpatially); `id`
+/// names a particle.
 
 #include <vfield/core/math.h>
 

@@ -69,7 +69,9 @@ struct DensityGrids {
     openvdb::Vec3SGrid::Ptr velocity;
 };
 
-/// Splats with options.resolved(mean radius of the particles). Throws
+/// Splats with options.resolved(mean radius of the particles); particles in
+/// spatial order (ParticleSet::sortSpatially) splat about ten times faster
+/// than in random order. Throws
 /// OptionError if the voxel size would make an absurd kernel. particles.rest
 /// may be empty: positions then stand in for it. With detail, `density` is
 /// the detailed grid (detail.voxelSize) and `vel` stays at the splat's voxel size.
