@@ -74,3 +74,23 @@ TEST_CASE("clearance: two boxes a known distance apart measure that distance, me
                                                                    R"({"min": [1.07, -0.5, -0.5], "max": [7.07, 0.5, 0.5]})");
     CHECK(turned[0].minimum == Approx(0.07).margin(0.005));
 }
+
+TEST_CASE("clearance: objects that pass through each other between two frames are caught at a substep", "[sim]")
+{
+    // Two boxes 40 units apart close at 120 units/s with no field between
+    // them: after one frame (1 s) they are apart again, on each other's side.
+    const std::string text = R"({"version": 1, "frames": {"start": 1, "end": 2, "fps": 1},
+      "objects": [{"name": "east", "mesh": {"box": {}}, "motion": "dynamic", "repulsion": false,
+                   "transform": {"translate": [-20, 0, 0]}, "velocity": [60, 0, 0]},
+                  {"name": "west", "mesh": {"box": {}}, "motion": "dynamic", "repulsion": false,
+                   "transform": {"translate": [20, 0, 0]}, "velocity": [-60, 0, 0]}]})";
+    Simulator sim(parseScene(text, "pass.json").simulation);
+    const ClearanceProbe probe(sim);
+    double closest = std::numeric_limits<double>::infinity();
+    sim.advanceFrame([&] { closest = std::min(closest, probe.measureObjects().at(0).minimum); });
+    REQUIRE(probe.measureObjects().size() == 1);
+    CHECK(probe.measureObjects()[0].minimum > 0.0);          // at the frame they are apart
+    CHECK(sim.objectStates()[0].pose.translation[0] > 20.0); // past each other
+    CHECK(closest < -0.5);                                   // overlapping at substeps between (a box reads -1 at its centre)
+    CHECK(probe.measureObjects()[0].exact == false);         // 40 apart: beyond what the level sets measure
+}

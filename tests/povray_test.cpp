@@ -67,9 +67,9 @@ struct FixedScene {
     std::string meshesText() const
     {
         std::vector<PovrayMesh> meshes(3);
-        meshes[0] = {0, &ground, SurfaceMaterial::Terrain, Transform{}};
-        meshes[1] = {1, &pillar, SurfaceMaterial::Painted, Transform{}};
-        meshes[2] = {2, &flyer, SurfaceMaterial::Painted, std::nullopt};
+        meshes[0] = {0, &ground, SurfaceMaterial::terrain(), Transform{}};
+        meshes[1] = {1, &pillar, SurfaceMaterial{}, Transform{}};
+        meshes[2] = {2, &flyer, SurfaceMaterial{}, std::nullopt};
         return povrayMeshesText(meshes, -1.0, 4.0);
     }
 
@@ -218,13 +218,13 @@ TEST_CASE("povray: terrain against the sky agrees with vfield's renderer (IoU >=
     FrameToRender embree;
     embree.settings = &settings;
     embree.surfaces = &surfaces;
-    embree.materials[0] = SurfaceMaterial::Terrain;
+    embree.materials[0] = SurfaceMaterial::terrain();
     embree.camera = Camera::fromSettings(settings.camera, width, height);
     embree.terrainLow = mesh.bounds().min()[1];
     embree.terrainHigh = mesh.bounds().max()[1];
     const std::string dir = test::scratchDir("povray-mask");
     writeFrameImage(renderFrame(embree), dir + "/vfield.png");
-    writeTextAtomically(dir + "/meshes.inc", povrayMeshesText({{0, &mesh, SurfaceMaterial::Terrain, Transform{}}},
+    writeTextAtomically(dir + "/meshes.inc", povrayMeshesText({{0, &mesh, SurfaceMaterial::terrain(), Transform{}}},
                                                               mesh.bounds().min()[1], mesh.bounds().max()[1]));
     PovrayFrame frame;
     frame.settings = &settings;

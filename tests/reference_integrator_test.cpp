@@ -85,7 +85,7 @@ struct FeatureScene {
         settings.integrator.volumeStep = 0.1;
         frame.settings = &settings;
         frame.surfaces = &surfaces;
-        frame.materials[0] = SurfaceMaterial::Painted;
+        frame.materials[0] = SurfaceMaterial{};
         frame.frame = 1;
         frame.camera = Camera::fromSettings(settings.camera, settings.image.width, settings.image.height);
         mDensity = std::move(density);

@@ -72,7 +72,7 @@ struct SmallScene {
         settings.camera.lookAt = Vec3d(0, 2, 0);
         frame.settings = &settings;
         frame.surfaces = &surfaces;
-        frame.materials[0] = SurfaceMaterial::Terrain;
+        frame.materials[0] = SurfaceMaterial::terrain();
         settings.image.width = 96;
         settings.image.height = 54;
         settings.image.samplesPerPixel = 2;

@@ -29,9 +29,9 @@ TEST_CASE("scene: defaults fill everything but the objects", "[scene]")
     CHECK(scene.simulation.options.sampling == SimulationOptions::Sampling::Nearest);
 }
 
-TEST_CASE("scene: both showcase scenes parse", "[scene]")
+TEST_CASE("scene: the shipped scenes parse", "[scene]")
 {
-    for (const char* name : {"cloud_over_terrain.json", "canyon_flythrough.json"}) {
+    for (const char* name : {"cloud_over_terrain.json", "canyon_flythrough.json", "crossing_flights.json"}) {
         INFO(name);
         const Scene scene = loadScene(std::string(VFIELD_SCENES_DIR) + "/" + name);
         CHECK_FALSE(scene.simulation.objects.empty());
@@ -49,6 +49,11 @@ TEST_CASE("scene: bad values are refused with their JSON path", "[scene]")
     CHECK_THROWS_WITH(sceneWith(R"(, "render": {"integrator": "pathtracer"})"),
                       "s.json: /render/integrator: expected one of \"fast\", \"reference\", got \"pathtracer\"");
     CHECK_THROWS_WITH(sceneWith(R"(, "render": {"maxBounces": 0})"), Catch::Contains("/render/maxBounces"));
+    CHECK_THROWS_WITH(sceneWith(R"(, "fields": [{"acceleration": [1, 0, 0], "affects": ["ground"]}])"),
+                      "s.json: /fields/0/affects/0: no dynamic object or cloud is named \"ground\"");
+    CHECK_THROWS_WITH(
+        parseScene(R"({"version": 1, "objects": [{"name": "a", "mesh": {"box": {}}, "color": [2, 0, 0]}]})", "s.json"),
+        Catch::Contains("/objects/0/color/0"));
     CHECK_THROWS_WITH(parseScene(R"({"version": 2, "objects": []})", "s.json"), Catch::Contains("/version"));
     CHECK_THROWS_WITH(parseScene(R"({"version": 1})", "s.json"), "s.json: /: missing key \"objects\"");
     CHECK_THROWS_WITH(parseScene(R"({"version": 1, "objects": [{"name": "a", "mesh": {"box": {}}, "mass": 3}]})", "s.json"),

@@ -148,6 +148,29 @@ TEST_CASE("simulator: a uniform field acts only inside its box and fades across 
     CHECK(onlyParticle(sim).length() < 1e-8);
 }
 
+TEST_CASE("simulator: a field that names what it affects moves only those", "[sim]")
+{
+    // Two boxes and a cloud at rest; the wind pushes only "pushed" and the cloud.
+    const std::string text = R"({"version": 1, "frames": {"start": 1, "end": 25, "fps": 24},
+      "objects": [{"name": "pushed", "mesh": {"box": {}}, "motion": "dynamic", "repulsion": false},
+                  {"name": "left", "mesh": {"box": {}}, "motion": "dynamic", "repulsion": false,
+                   "transform": {"translate": [0, 10, 0]}}],
+      "clouds": [{"name": "dust", "count": 5, "center": [0, -10, 0], "radius": 1, "drag": 0}],
+      "fields": [{"name": "wind", "acceleration": [2, 0, 0], "affects": ["pushed", "dust"]}],
+      "simulation": {"domain": {"min": [-100, -100, -100], "max": [100, 100, 100]}}})";
+    const Scene scene = parseScene(text, "affects.json");
+    Simulator sim(scene.simulation);
+    std::map<uint32_t, Vec3d> dustStart;
+    for (std::size_t p = 0; p < sim.particles().size(); ++p)
+        dustStart[sim.particles().id[p]] = Vec3d(sim.particles().position[p]);
+    for (int frame = 0; frame < 24; ++frame) sim.advanceFrame();
+    // One second at 2 units/s^2 from rest: one unit along x.
+    CHECK(sim.objectStates()[0].pose.translation[0] == Approx(1.0).epsilon(0.05));
+    CHECK(sim.objectStates()[1].pose.translation == Vec3d(0, 10, 0));
+    for (std::size_t p = 0; p < sim.particles().size(); ++p)
+        CHECK(double(sim.particles().position[p][0]) - dustStart[sim.particles().id[p]][0] == Approx(1.0).epsilon(0.05));
+}
+
 TEST_CASE("simulator: particles leaving the domain are removed and counted", "[sim]")
 {
     const std::string text = R"({"version": 1, "frames": {"start": 1, "end": 30, "fps": 10}, "objects": [],
@@ -251,6 +274,80 @@ TEST_CASE("showcase: the airplane flies the canyon without touching it", "[sim][
     CHECK(track.back().at("position").at(0).get<double>() > 140.0); // past the terrain's far edge
     CHECK(slowest > 3.0);
     CHECK(highest < 10.0); // the rims stand at about 20 and higher
+}
+
+namespace {
+
+/// The crossing flights up to just past their meetings: each pair's closest
+/// approach over every substep, mesh to mesh.
+std::map<std::string, PairClearance> closestApproaches(const std::vector<SceneOverride>& overrides)
+{
+    const std::string path = std::string(VFIELD_SCENES_DIR) + "/crossing_flights.json";
+    std::vector<SceneOverride> all = overrides;
+    all.push_back({"/frames/end", "140"});
+    Simulator sim(loadScene(path, all).simulation);
+    const ClearanceProbe probe(sim);
+    std::map<std::string, PairClearance> closest;
+    const auto measure = [&] {
+        for (const PairClearance& pair : probe.measureObjects()) {
+            const auto [it, added] = closest.emplace(pair.first + "-" + pair.second, pair);
+            if (!added && pair.minimum < it->second.minimum) it->second = pair;
+        }
+    };
+    while (sim.frame() < sim.setup().lastFrame) sim.advanceFrame(measure);
+    return closest;
+}
+
+} // namespace
+
+TEST_CASE("showcase: four aircraft on collision courses never touch, and touch without their fields", "[sim][showcase]")
+{
+    const std::map<std::string, PairClearance> repelled = closestApproaches({});
+    REQUIRE(repelled.size() == 10); // four aircraft: six pairs, and each against the mountains
+    for (const auto& [pair, clearance] : repelled) {
+        INFO(pair << " " << clearance.minimum);
+        CHECK(clearance.minimum > 0.5);
+    }
+    // The same courses with the aircraft's fields at zero strength.
+    std::vector<SceneOverride> unrepelled;
+    for (int object = 1; object <= 4; ++object)
+        unrepelled.push_back({"/objects/" + std::to_string(object) + "/repulsion/strength", "0"});
+    const std::map<std::string, PairClearance> collided = closestApproaches(unrepelled);
+    CHECK(collided.at("red-blue").minimum < 0.0);     // head-on
+    CHECK(collided.at("yellow-white").minimum < 0.0); // crossing
+}
+
+TEST_CASE("showcase: an airplane through a cloud bank parts it, no particle inside it at any substep", "[sim][showcase]")
+{
+    // 20,000 of the bank's particles; by frame 90 the airplane is past the
+    // bank's middle.
+    Scene scene = test::showcaseAtTestResolution("plane_through_cloud.json", 20000, 90);
+    Simulator sim(scene.simulation);
+    const ClearanceProbe probe(sim);
+    // The flight line's tube (the airplane's height and half its span)
+    // between where the cloud begins and x = -5, which it has left by then.
+    const auto inTube = [&] {
+        std::size_t n = 0;
+        for (const Vec3f& p : sim.particles().position)
+            if (p[0] > -40.0f && p[0] < -5.0f && std::abs(p[1]) < 1.0f && std::abs(p[2]) < 3.0f) ++n;
+        return n;
+    };
+    const std::size_t before = inTube();
+    REQUIRE(before > 100);
+    uint64_t endedInside = 0, contacts = 0;
+    while (sim.frame() < sim.setup().lastFrame) {
+        sim.advanceFrame();
+        endedInside += sim.lastStep().endedInside;
+        contacts += sim.lastStep().contacts;
+        const ClearanceStats clearance = probe.measureParticles();
+        INFO("frame " << sim.frame());
+        CHECK(clearance.penetrations == 0);
+    }
+    const Transform& airplane = sim.objectStates()[1].pose;
+    REQUIRE(airplane.translation[0] > 10.0); // its tail past the tube
+    CHECK(endedInside == 0);
+    INFO("contacts " << contacts << ", particles in the tube before " << before << ", after " << inTube());
+    CHECK(inTube() < before / 4); // the wake
 }
 
 TEST_CASE("simulator: the same scene gives the same grids for 1 and 2 threads", "[sim][determinism]")

@@ -1,3 +1,4 @@
+#include <vfield/mesh/mesh_io.h>
 #include <vfield/mesh/procedural.h>
 #include <vfield/mesh/triangle_mesh.h>
 
@@ -37,6 +38,26 @@ TEST_CASE("triangle mesh: topology tells closed solids from open or misoriented 
     TriangleMesh flipped = box;
     std::swap(flipped.triangles[0][1], flipped.triangles[0][2]);
     CHECK(analyzeTopology(flipped).misorientedEdges == 3);
+}
+
+TEST_CASE("triangle mesh: solids touching along an edge still bound a solid", "[mesh]")
+{
+    // Two cubes sharing the edge x = y = 1 once their points are merged: four
+    // triangles round it, two each way.
+    TriangleMesh touching = makeBox({}), second = makeBox({});
+    Mat4d shift = Mat4d::identity();
+    shift.setTranslation(Vec3d(2, 2, 0));
+    second.transform(shift);
+    touching.append(second);
+    mergeIdenticalPoints(touching);
+    const MeshTopology topology = analyzeTopology(touching);
+    CHECK(topology.nonManifoldEdges >= 1);
+    CHECK(topology.isClosed());
+
+    // The shipped airplane is six closed parts sharing points where they meet.
+    const TriangleMesh airplane = loadMesh(std::string(VFIELD_SCENES_DIR) + "/meshes/airplane.obj");
+    CHECK(analyzeTopology(airplane).nonManifoldEdges > 0);
+    CHECK(analyzeTopology(airplane).isClosed());
 }
 
 TEST_CASE("triangle mesh: transform and append keep the triangles' points", "[mesh]")

@@ -41,18 +41,4 @@ Vec3d MeshDistance::gradient(Accessor& accessor, const Vec3d& p) const
     return g;
 }
 
-std::vector<Vec3d> trianglePoints(const Vec3d& a, const Vec3d& b, const Vec3d& c, double spacing)
-{
-    const double longest = std::max({(b - a).length(), (c - b).length(), (a - c).length()});
-    const int n = std::max(1, int(std::ceil(longest / spacing)));
-    std::vector<Vec3d> points;
-    points.reserve(std::size_t((n + 1) * (n + 2) / 2));
-    for (int i = 0; i <= n; ++i)
-        for (int j = 0; i + j <= n; ++j) {
-            const double u = double(i) / n, v = double(j) / n;
-            points.push_back(a + (b - a) * u + (c - a) * v);
-        }
-    return points;
-}
-
 } // namespace vfield

@@ -112,7 +112,8 @@ void mergeIdenticalPoints(TriangleMesh& mesh)
 MeshTopology analyzeTopology(const TriangleMesh& mesh)
 {
     // Each undirected edge counts its uses and the balance of its directions:
-    // in a closed, consistently wound mesh every edge is used twice, once each way.
+    // in a closed, consistently wound mesh every edge is used as often one way
+    // as the other (twice, or four times where two solids touch along it).
     struct EdgeUse {
         int count = 0;
         int balance = 0;
@@ -130,8 +131,8 @@ MeshTopology analyzeTopology(const TriangleMesh& mesh)
     }
     MeshTopology topology;
     for (const auto& [key, use] : edges) {
-        if (use.count == 1) ++topology.boundaryEdges;
-        else if (use.count > 2) ++topology.nonManifoldEdges;
+        if (use.count > 2) ++topology.nonManifoldEdges;
+        if (use.count % 2 == 1) ++topology.boundaryEdges;
         else if (use.balance != 0) ++topology.misorientedEdges;
     }
     return topology;

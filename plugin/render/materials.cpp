@@ -34,10 +34,10 @@ constexpr double kBumpFrequency = 1.0 / 2.5;
 
 } // namespace
 
-SurfaceNoise surfaceNoise(SurfaceMaterial material, const Vec3d& position)
+SurfaceNoise surfaceNoise(const SurfaceMaterial& material, const Vec3d& position)
 {
     SurfaceNoise noise;
-    if (material == SurfaceMaterial::Painted) return noise;
+    if (material.kind == SurfaceMaterial::Kind::Painted) return noise;
     noise.bumpGradient =
         Vec3d(fbmSample(terrainNoise(), Vec3f(position * kBumpFrequency), FractalOptions{2, 2.0, 0.5}).gradient) * kBumpFrequency;
     noise.broad = noiseAt(position, 1.0 / 40.0, 3);
@@ -46,10 +46,10 @@ SurfaceNoise surfaceNoise(SurfaceMaterial material, const Vec3d& position)
     return noise;
 }
 
-Vec3d surfaceAlbedo(SurfaceMaterial material, const Vec3d& position, const Vec3d& normal, double low, double high,
+Vec3d surfaceAlbedo(const SurfaceMaterial& material, const Vec3d& position, const Vec3d& normal, double low, double high,
                     const SurfaceNoise& noise)
 {
-    if (material == SurfaceMaterial::Painted) return Vec3d(0.62, 0.62, 0.66);
+    if (material.kind == SurfaceMaterial::Kind::Painted) return material.paint;
     // Grass low and flat, rock where steep, snow high and flat; the borders
     // between them wander with the noise, as do the colours within each.
     const Vec3d grass(0.11, 0.2, 0.05), dryGrass(0.26, 0.24, 0.11), rock(0.24, 0.2, 0.16), darkRock(0.1, 0.09, 0.08),
@@ -64,9 +64,9 @@ Vec3d surfaceAlbedo(SurfaceMaterial material, const Vec3d& position, const Vec3d
     return lerp(colour, snow, smoothstep(0.85, 0.95, height) * smoothstep(0.5, 0.75, slope));
 }
 
-Vec3d shadingNormal(SurfaceMaterial material, const Vec3d& normal, const SurfaceNoise& noise)
+Vec3d shadingNormal(const SurfaceMaterial& material, const Vec3d& normal, const SurfaceNoise& noise)
 {
-    if (material == SurfaceMaterial::Painted) return normal;
+    if (material.kind == SurfaceMaterial::Kind::Painted) return normal;
     // Bumps a few units across: the noise's gradient tilts the normal, its
     // part along the normal removed.
     constexpr double kStrength = 0.6;

@@ -24,7 +24,7 @@ namespace {
 SurfaceMaterial materialOf(const ObjectSpec& object)
 {
     const bool isGround = object.mesh.kind == MeshSource::Kind::Terrain || object.mesh.kind == MeshSource::Kind::Heightmap;
-    return isGround ? SurfaceMaterial::Terrain : SurfaceMaterial::Painted;
+    return isGround ? SurfaceMaterial::terrain() : SurfaceMaterial::painted(object.color);
 }
 
 } // namespace

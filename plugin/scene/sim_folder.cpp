@@ -55,7 +55,7 @@ nlohmann::json toJson(const FrameRecord& r)
     const bool any = r.alive > 0;
     nlohmann::json pairs = nlohmann::json::array();
     for (const PairClearance& pair : r.objectPairs)
-        pairs.push_back({{"objects", {pair.first, pair.second}}, {"min", pair.minimum}});
+        pairs.push_back({{"objects", {pair.first, pair.second}}, {"min", pair.minimum}, {"exact", pair.exact}});
     return {{"frame", r.frame},
             {"centroid", any ? vec(r.centroid) : nlohmann::json(nullptr)},
             {"boundsMin", any ? vec(r.bounds.min()) : nlohmann::json(nullptr)},
@@ -66,6 +66,7 @@ nlohmann::json toJson(const FrameRecord& r)
             {"maxSubsteps", r.maxSubsteps},
             {"dynamicSubsteps", r.dynamicSubsteps},
             {"contacts", r.contacts},
+            {"endedInside", r.endedInside},
             {"maxRollChangeDegrees", r.maxRollChange},
             {"clearance", {{"particles", toJson(r.particleClearance)}, {"objects", pairs}}}};
 }
@@ -80,6 +81,7 @@ FrameRecord recordFromJson(const nlohmann::json& j)
     r.maxSubsteps = j.at("maxSubsteps").get<uint32_t>();
     r.dynamicSubsteps = j.at("dynamicSubsteps").get<uint32_t>();
     r.contacts = j.at("contacts").get<uint64_t>();
+    r.endedInside = j.value("endedInside", uint64_t(0));
     r.maxRollChange = j.at("maxRollChangeDegrees").get<double>();
     if (!j.at("centroid").is_null()) {
         r.centroid = vecFromJson(j.at("centroid"));
@@ -88,7 +90,7 @@ FrameRecord recordFromJson(const nlohmann::json& j)
     r.particleClearance = clearanceFromJson(j.at("clearance").at("particles"));
     for (const nlohmann::json& pair : j.at("clearance").at("objects"))
         r.objectPairs.push_back({pair.at("objects").at(0).get<std::string>(), pair.at("objects").at(1).get<std::string>(),
-                                 pair.at("min").get<double>()});
+                                 pair.at("min").get<double>(), pair.value("exact", true)});
     return r;
 }
 
@@ -273,6 +275,8 @@ void add(ContentHash& h, const UniformFieldSpec& f)
     add(h, f.acceleration);
     add(h, f.box);
     add(h, f.softEdge);
+    add(h, int64_t(f.affects.size()));
+    for (const std::string& name : f.affects) add(h, name);
 }
 
 // --- state.bin ----------------------------------------------------------------

@@ -24,6 +24,15 @@ void accumulate(ClearanceStats& worst, const ClearanceStats& frame)
     worst.samples += frame.samples;
 }
 
+/// Keeps the smaller of the pair's distance and the one already held for it.
+void keepClosest(std::vector<PairClearance>& closest, const PairClearance& pair)
+{
+    const auto same = std::find_if(closest.begin(), closest.end(),
+                                   [&](const PairClearance& c) { return c.first == pair.first && c.second == pair.second; });
+    if (same == closest.end()) closest.push_back(pair);
+    else if (pair.minimum < same->minimum) *same = pair;
+}
+
 } // namespace
 
 SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, const SimulateOptions& options)
@@ -91,8 +100,17 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
     int done = 0;
     // A fresh run first records the initial state (the first frame) without
     // stepping; a resumed run continues after its last complete frame.
+    // Objects are measured against each other at the end of every substep of
+    // theirs, not only at frames: two aircraft can pass through each other
+    // between frames. A frame records each pair's closest approach.
+    std::vector<PairClearance> closestInFrame;
+    const auto measurePairs = [&] {
+        for (const PairClearance& pair : clearance.measureObjects()) keepClosest(closestInFrame, pair);
+    };
     for (bool first = !resumed; simulator.frame() < writeLast || first; first = false) {
-        if (!first) simulator.advanceFrame();
+        closestInFrame.clear();
+        if (first) measurePairs(); // the initial poses; every later frame's last substep ends at it
+        else simulator.advanceFrame(measurePairs);
         const int frame = simulator.frame();
 
         FrameRecord record;
@@ -103,9 +121,10 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
         record.maxSubsteps = simulator.lastStep().maxSubsteps;
         record.dynamicSubsteps = simulator.lastStep().dynamicSubsteps;
         record.contacts = simulator.lastStep().contacts;
+        record.endedInside = simulator.lastStep().endedInside;
         record.maxRollChange = simulator.lastStep().maxRollChange;
         record.particleClearance = clearance.measureParticles();
-        record.objectPairs = clearance.measureObjects();
+        record.objectPairs = closestInFrame;
         for (const Vec3f& p : simulator.particles().position) {
             record.centroid += Vec3d(p);
             record.bounds.expand(Vec3d(p));
@@ -138,12 +157,10 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
     for (const FrameRecord& r : summary.frames) {
         accumulate(summary.worstParticles, r.particleClearance);
         summary.contacts += r.contacts;
+        summary.endedInside += r.endedInside;
         for (const PairClearance& pair : r.objectPairs) {
             if (pair.minimum < 0.0) ++summary.overlappingPairFrames;
-            auto closest = std::find_if(summary.closestPairs.begin(), summary.closestPairs.end(),
-                                        [&](const PairClearance& c) { return c.first == pair.first && c.second == pair.second; });
-            if (closest == summary.closestPairs.end()) summary.closestPairs.push_back(pair);
-            else closest->minimum = std::min(closest->minimum, pair.minimum);
+            keepClosest(summary.closestPairs, pair);
         }
     }
     return summary;

@@ -42,6 +42,7 @@ void ObjectSpec::validate() const
     requireNumber("maxRollRate", maxRollRate, 0.0, 1e5);
     requireNumber("maxPitchRate", maxPitchRate, 0.0, 1e5);
     if (repulsion) validatePart("repulsion", *repulsion);
+    for (int c = 0; c < 3; ++c) requireNumber("color/" + std::to_string(c), color[c], 0.0, 1.0);
 }
 
 void CloudSpec::validate() const
@@ -59,6 +60,11 @@ void UniformFieldSpec::validate() const
     if (box) requireBox("box", *box);
     requireNumber("softEdge", softEdge, 0.0, 1e12);
     require(softEdge == 0.0 || box.has_value(), "softEdge", "\"softEdge\" needs a \"box\"");
+}
+
+bool UniformFieldSpec::acts(const std::string& name) const
+{
+    return affects.empty() || std::find(affects.begin(), affects.end(), name) != affects.end();
 }
 
 void SimulationOptions::validate() const
@@ -88,7 +94,18 @@ void SimulationSetup::validate() const
         require(particles <= kMaxParticles, key,
                 "the clouds ask for more than " + std::to_string(kMaxParticles) + " particles in all");
     }
-    for (std::size_t i = 0; i < fields.size(); ++i) validatePart("fields/" + std::to_string(i), fields[i]);
+    for (std::size_t i = 0; i < fields.size(); ++i) {
+        const std::string key = "fields/" + std::to_string(i);
+        validatePart(key, fields[i]);
+        for (std::size_t n = 0; n < fields[i].affects.size(); ++n) {
+            const std::string& name = fields[i].affects[n];
+            const bool movingObject =
+                std::any_of(objects.begin(), objects.end(), [&](const ObjectSpec& o) { return o.name == name && o.isDynamic; });
+            const bool cloud = std::any_of(clouds.begin(), clouds.end(), [&](const CloudSpec& c) { return c.name == name; });
+            require(movingObject || cloud, key + "/affects/" + std::to_string(n),
+                    "no dynamic object or cloud is named \"" + name + "\"");
+        }
+    }
     validatePart("simulation", options);
 }
 
@@ -114,6 +131,7 @@ ObjectSpec objectSpecFromJson(const JsonValue& json, const std::string& baseDir)
     return readOptions<ObjectSpec>(json, [&](JsonObject& o, ObjectSpec& spec) {
         spec.name = o.at("name").asString();
         spec.mesh = meshSourceFromJson(o.at("mesh"), baseDir);
+        spec.color = o.vec3("color", spec.color);
         if (const auto t = o.find("transform")) spec.transform = transformFromJson(*t);
         const std::string motion = o.choice("motion", "static", {"static", "dynamic"});
         spec.isDynamic = motion == "dynamic";
@@ -168,6 +186,8 @@ UniformFieldSpec uniformFieldSpecFromJson(const JsonValue& json)
         f.acceleration = o.at("acceleration").asVec3();
         if (const auto box = o.find("box")) f.box = boxFromJson(*box);
         f.softEdge = o.number("softEdge", f.softEdge);
+        if (const auto affects = o.find("affects"))
+            for (const JsonValue& name : affects->asArray()) f.affects.push_back(name.asString());
     });
 }
 

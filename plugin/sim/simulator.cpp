@@ -148,7 +148,10 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
             if (analyzeTopology(object.mesh).isClosed()) {
                 const BBoxd box = object.mesh.bounds();
                 const double extent = box.extents()[box.maxExtent()];
-                const double band = object.field ? 0.5 * (object.field->rootSide() - extent) : 0.1 * extent;
+                // Wider bands cost cubically in voxels (a margin of 20 took 285 voxels
+                // and most of a four-aircraft run) and serve only measurement.
+                const double band =
+                    object.field ? std::min(0.5 * (object.field->rootSide() - extent), 0.5 * extent) : 0.1 * extent;
                 object.distance = std::make_shared<MeshDistance>(object.mesh, extent / 128.0, band, 0.5 * extent);
             }
         }
@@ -189,6 +192,23 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
     }
     mDomain = mSetup.options.domain.value_or(domain);
     mStatesAtFrameStart = mStates;
+
+    mObjectFields.resize(mObjects.size());
+    mCloudFields.resize(mSetup.clouds.size());
+    for (std::size_t f = 0; f < mSetup.fields.size(); ++f) {
+        const UniformFieldSpec& field = mSetup.fields[f];
+        for (std::size_t i = 0; i < mObjects.size(); ++i)
+            if (field.acts(mSetup.objects[i].name)) mObjectFields[i].push_back(f);
+        for (std::size_t c = 0; c < mSetup.clouds.size(); ++c)
+            if (field.acts(mSetup.clouds[c].name)) mCloudFields[c].push_back(f);
+    }
+}
+
+Vec3d Simulator::uniformAcceleration(const std::vector<std::size_t>& fields, const Vec3d& p) const
+{
+    Vec3d a(0.0);
+    for (const std::size_t f : fields) a += mSetup.fields[f].accelerationAt(p);
+    return a;
 }
 
 std::vector<std::string> Simulator::meshReports() const
@@ -232,7 +252,7 @@ Vec3d Simulator::repulsion(const Vec3d& p, double time, openvdb::Vec3SGrid::Cons
     return force;
 }
 
-void Simulator::advanceDynamicObjects(double t0, double t1)
+void Simulator::advanceDynamicObjects(double t0, double t1, const std::function<void()>& afterSubstep)
 {
     std::vector<std::size_t> dynamic;
     for (std::size_t i = 0; i < mObjects.size(); ++i)
@@ -252,8 +272,7 @@ void Simulator::advanceDynamicObjects(double t0, double t1)
             const std::size_t i = dynamic[d];
             const ObjectSpec& spec = *mObjects[i].spec;
             const DynamicState& state = mStates[i];
-            Vec3d a(0.0);
-            for (const UniformFieldSpec& field : mSetup.fields) a += field.accelerationAt(state.pose.translation);
+            Vec3d a = uniformAcceleration(mObjectFields[i], state.pose.translation);
             // The paper's hit test: this object's triangle centroids against every other field.
             for (const std::size_t j : mRepulsive) {
                 if (j == i) continue;
@@ -282,6 +301,7 @@ void Simulator::advanceDynamicObjects(double t0, double t1)
         }
         t = (t1 - t <= dt) ? t1 : t + dt;
         ++substeps;
+        if (afterSubstep) afterSubstep();
     }
     mLastStep.dynamicSubsteps = substeps;
     for (std::size_t d = 0; d < dynamic.size(); ++d)
@@ -379,6 +399,16 @@ bool Simulator::resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t,
     return touched;
 }
 
+bool Simulator::endsInside(const Vec3d& x, double t, std::vector<MeshDistance::Accessor>& accessors) const
+{
+    for (std::size_t k = 0; k < mContact.size(); ++k) {
+        const MeshDistance& distance = *mObjects[mContact[k]].distance;
+        const Vec3d local = poseAt(mContact[k], t).objectFromWorld(x);
+        if (distance.reach().isInside(local) && distance.distance(accessors[k], local) < 0.0) return true;
+    }
+    return false;
+}
+
 void Simulator::advanceParticles(double t0, double t1)
 {
     // Re-sorted every few frames (particles drift little in between), so
@@ -386,7 +416,7 @@ void Simulator::advanceParticles(double t0, double t1)
     if (mFrame % kSortInterval == 0) mParticles.sortSpatially(mDomain);
     const std::size_t n = mParticles.size();
     std::vector<uint8_t> alive(n, 1);
-    std::vector<uint32_t> substepsOf(n, 0), contactsOf(n, 0);
+    std::vector<uint32_t> substepsOf(n, 0), contactsOf(n, 0), insideOf(n, 0);
     const double cfl = mSetup.options.cfl;
     measureFieldSpeeds(t0, t1);
 
@@ -401,12 +431,12 @@ void Simulator::advanceParticles(double t0, double t1)
         for (const std::size_t i : mContact) distances.push_back(mObjects[i].distance->accessor());
         for (std::size_t p = range.begin(); p != range.end(); ++p) {
             const CloudSpec& cloud = mSetup.clouds[mParticles.cloud[p]];
+            const std::vector<std::size_t>& fields = mCloudFields[mParticles.cloud[p]];
             Vec3d x(mParticles.position[p]), v(mParticles.velocity[p]);
             double t = t0;
             uint32_t steps = 0;
             while (t < t1) {
-                Vec3d a(0.0);
-                for (const UniformFieldSpec& field : mSetup.fields) a += field.accelerationAt(x);
+                Vec3d a = uniformAcceleration(fields, x);
                 a += repulsion(x, t, accessors.data()) / cloud.mass;
                 // Each move stays within cfl of the cells around the particle,
                 // counting the motion of fields sweeping over it; where the
@@ -420,7 +450,10 @@ void Simulator::advanceParticles(double t0, double t1)
                 dt = std::max(dt, 1e-9 * (t1 - t0));
                 const Vec3d from = x;
                 integrateWithDrag(x, v, a, cloud.drag, dt);
-                if (!mContact.empty() && resolveContacts(from, x, v, t, dt, distances)) ++contactsOf[p];
+                if (!mContact.empty()) {
+                    if (resolveContacts(from, x, v, t, dt, distances)) ++contactsOf[p];
+                    if (endsInside(x, t + dt, distances)) ++insideOf[p];
+                }
                 t = (t1 - t <= dt) ? t1 : t + dt;
                 ++steps;
                 if (!mDomain.isInside(x)) {
@@ -438,18 +471,19 @@ void Simulator::advanceParticles(double t0, double t1)
         mLastStep.substeps += substepsOf[p];
         mLastStep.maxSubsteps = std::max(mLastStep.maxSubsteps, substepsOf[p]);
         mLastStep.contacts += contactsOf[p];
+        mLastStep.endedInside += insideOf[p];
         if (!alive[p]) ++mLastStep.removed;
     }
     mRemovedTotal += mLastStep.removed;
     if (mLastStep.removed > 0) mParticles.keep(alive);
 }
 
-void Simulator::advanceFrame()
+void Simulator::advanceFrame(const std::function<void()>& afterDynamicSubstep)
 {
     const double t0 = mSetup.frameTime(mFrame), t1 = mSetup.frameTime(mFrame + 1);
     mLastStep = {};
     mStatesAtFrameStart = mStates;
-    advanceDynamicObjects(t0, t1);
+    advanceDynamicObjects(t0, t1, afterDynamicSubstep);
     ++mFrame; // poseAt interpolates between the two frames' poses
     advanceParticles(t0, t1);
 }

@@ -158,7 +158,7 @@ void BM_PovrayFrame(benchmark::State& state)
     const std::string dir = (std::filesystem::temp_directory_path() / "vfield-bench-povray").string();
     std::filesystem::create_directories(dir);
     writeTextAtomically(dir + "/meshes.inc",
-                        povrayMeshesText({{0, &s.terrain, SurfaceMaterial::Terrain, Transform{}}},
+                        povrayMeshesText({{0, &s.terrain, SurfaceMaterial::terrain(), Transform{}}},
                                          s.surfaces.staticBounds().min()[1], s.surfaces.staticBounds().max()[1]));
     const RenderSettings settings = s.settings(width, height, int(state.range(2)));
     for (auto _ : state) {

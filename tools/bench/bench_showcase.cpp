@@ -52,7 +52,7 @@ FrameToRender ShowcaseFrame::frame(const RenderSettings& settings, const CloudVo
     FrameToRender f;
     f.settings = &settings;
     f.surfaces = &surfaces;
-    f.materials[0] = SurfaceMaterial::Terrain;
+    f.materials[0] = SurfaceMaterial::terrain();
     f.volume = volume;
     f.frame = 100;
     f.camera = Camera::fromSettings(settings.camera, settings.image.width, settings.image.height);

@@ -67,13 +67,15 @@ Runner registerSimulate(CLI::App& app, const GlobalOptions& global)
         for (const PairClearance& pair : summary.closestPairs) {
             char text[64];
             std::snprintf(text, sizeof text, "%.4g", pair.minimum);
-            log(global, "clearance of " + pair.first + " and " + pair.second + ", mesh to mesh: min " + text +
-                            (pair.minimum < 0.0 ? " (they overlap)" : ""));
+            log(global, "clearance of " + pair.first + " and " + pair.second + ", mesh to mesh: " +
+                            (pair.exact ? "min " : "at least ") + text + (pair.minimum < 0.0 ? " (they overlap)" : ""));
         }
         if (summary.contacts > 0)
             log(global,
                 std::to_string(summary.contacts) +
                     " particle substeps ended on a dynamic object's surface (contacts: its field alone did not turn them away)");
+        if (summary.endedInside > 0)
+            log(global, "warning: " + std::to_string(summary.endedInside) + " particle substeps ended inside a dynamic object");
     };
 }
 

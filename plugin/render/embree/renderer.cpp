@@ -12,14 +12,14 @@ namespace vfield {
 SurfaceMaterial surfaceMaterial(const FrameToRender& frame, int object)
 {
     const auto material = frame.materials.find(object);
-    return material != frame.materials.end() ? material->second : SurfaceMaterial::Painted;
+    return material != frame.materials.end() ? material->second : SurfaceMaterial{};
 }
 
 SurfaceShading surfaceShading(const FrameToRender& frame, const SurfaceHit& hit, const SurfaceNoise& noise)
 {
-    const SurfaceMaterial kind = surfaceMaterial(frame, hit.object);
-    const Vec3d normal = shadingNormal(kind, hit.normal, noise);
-    return {normal, surfaceAlbedo(kind, hit.position, normal, frame.terrainLow, frame.terrainHigh, noise)};
+    const SurfaceMaterial material = surfaceMaterial(frame, hit.object);
+    const Vec3d normal = shadingNormal(material, hit.normal, noise);
+    return {normal, surfaceAlbedo(material, hit.position, normal, frame.terrainLow, frame.terrainHigh, noise)};
 }
 
 SurfaceShading surfaceShading(const FrameToRender& frame, const SurfaceHit& hit)

@@ -39,7 +39,7 @@ void writeMesh(std::ostream& out, const PovrayMesh& m, double terrainLow, double
         points[i] = m.placement ? m.placement->worldFromObject(Vec3d(mesh.points[i])) : Vec3d(mesh.points[i]);
         normals[i] = m.placement ? m.placement->rotateToWorld(Vec3d(objectNormals[i])) : Vec3d(objectNormals[i]);
     }
-    const bool perPointColour = m.material == SurfaceMaterial::Terrain;
+    const bool perPointColour = m.material.kind == SurfaceMaterial::Kind::Terrain;
 
     out << "#declare VF_Object_" << m.object << " = mesh2 {\n";
     out << "  vertex_vectors { " << points.size();

@@ -42,9 +42,4 @@ private:
     BBoxd mReach;
 };
 
-/// Points covering a triangle (object or world space) no farther apart than
-/// spacing: a barycentric lattice, vertices and edges included. Sampling a
-/// distance field at them misses no part of the triangle wider than spacing.
-std::vector<Vec3d> trianglePoints(const Vec3d& a, const Vec3d& b, const Vec3d& c, double spacing);
-
 } // namespace vfield

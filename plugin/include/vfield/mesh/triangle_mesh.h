@@ -44,11 +44,14 @@ std::size_t removeDegenerateTriangles(TriangleMesh& mesh);
 void mergeIdenticalPoints(TriangleMesh& mesh);
 
 /// Edge structure of a mesh: whether it bounds a solid with a defined inside.
+/// Solids that touch along an edge (an airplane's wing and fuselage sharing
+/// vertices) still bound one: each edge is traversed as often one way as
+/// the other, four triangles round it instead of two.
 struct MeshTopology {
-    std::size_t boundaryEdges = 0;    ///< edges used by one triangle only (holes)
+    std::size_t boundaryEdges = 0;    ///< edges used by an odd number of triangles (holes)
     std::size_t nonManifoldEdges = 0; ///< edges used by three or more triangles
-    std::size_t misorientedEdges = 0; ///< edges two triangles traverse in the same direction
-    bool isClosed() const { return boundaryEdges == 0 && nonManifoldEdges == 0 && misorientedEdges == 0; }
+    std::size_t misorientedEdges = 0; ///< edges used an even number of times, more often one way than the other
+    bool isClosed() const { return boundaryEdges == 0 && misorientedEdges == 0; }
 };
 MeshTopology analyzeTopology(const TriangleMesh& mesh);
 

@@ -8,9 +8,16 @@
 namespace vfield {
 
 /// How a surface is coloured.
-enum class SurfaceMaterial {
-    Terrain, ///< grass, rock and snow by height and slope
-    Painted  ///< one base colour
+struct SurfaceMaterial {
+    enum class Kind {
+        Terrain, ///< grass, rock and snow by height and slope
+        Painted  ///< one base colour
+    };
+    Kind kind = Kind::Painted;
+    Vec3d paint{0.62, 0.62, 0.66}; ///< a painted surface's diffuse reflectance, linear RGB (0..1)
+
+    static SurfaceMaterial terrain() { return {Kind::Terrain, Vec3d(0.0)}; }
+    static SurfaceMaterial painted(const Vec3d& colour) { return {Kind::Painted, colour}; }
 };
 
 /// The world-space noise a surface's shading draws at a point (none for
@@ -21,17 +28,17 @@ struct SurfaceNoise {
     Vec3d bumpGradient{0.0};                     ///< of the bump noise, per world unit
     double broad = 0.0, fine = 0.0, stone = 0.0; ///< colour noise at three scales, about [-1, 1]
 };
-SurfaceNoise surfaceNoise(SurfaceMaterial material, const Vec3d& position);
+SurfaceNoise surfaceNoise(const SurfaceMaterial& material, const Vec3d& position);
 
 /// Diffuse reflectance (linear RGB) of a surface point with unit normal
 /// `normal`; terrain colours depend on where the height lies in [low, high],
 /// on the slope, and on the noise at the point.
-Vec3d surfaceAlbedo(SurfaceMaterial material, const Vec3d& position, const Vec3d& normal, double low, double high,
+Vec3d surfaceAlbedo(const SurfaceMaterial& material, const Vec3d& position, const Vec3d& normal, double low, double high,
                     const SurfaceNoise& noise);
 
 /// The normal to shade with: terrain's is tilted by the bumps of its noise, a
 /// few units across; painted surfaces keep theirs.
-Vec3d shadingNormal(SurfaceMaterial material, const Vec3d& normal, const SurfaceNoise& noise);
+Vec3d shadingNormal(const SurfaceMaterial& material, const Vec3d& normal, const SurfaceNoise& noise);
 
 /// The sky dome's radiance in a unit direction: a gradient from horizon to
 /// zenith over the lower half of the sky, haze below the horizon. What lights

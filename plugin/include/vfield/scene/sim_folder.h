@@ -54,10 +54,11 @@ private:
 struct FrameRecord {
     int frame = 0;
     uint64_t alive = 0, removed = 0, substeps = 0, contacts = 0;
+    uint64_t endedInside = 0; ///< particle substeps that ended inside a dynamic object (StepStats)
     uint32_t maxSubsteps = 0, dynamicSubsteps = 0;
     double maxRollChange = 0.0;             ///< degrees, the most any dynamic object rolled over the frame
     ClearanceStats particleClearance;       ///< the particles against every object
-    std::vector<PairClearance> objectPairs; ///< every dynamic object against every other object
+    std::vector<PairClearance> objectPairs; ///< every dynamic object against every other: closest over the frame's substeps
     Vec3d centroid{0.0};                    ///< mean particle position, world units
     BBoxd bounds;                           ///< box of the particles (empty without particles)
 };

@@ -47,6 +47,7 @@ struct SimulateSummary {
     std::vector<PairClearance> closestPairs;
     uint64_t overlappingPairFrames = 0; ///< (pair, frame)s whose meshes overlapped
     uint64_t contacts = 0;              ///< particle contacts with dynamic objects, all frames (StepStats)
+    uint64_t endedInside = 0;           ///< particle substeps that ended inside a dynamic object, all frames
 };
 
 SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, const SimulateOptions& options = {});

@@ -26,8 +26,10 @@ struct PairClearance {
     std::string first, second; ///< object names; first is dynamic
     /// Smallest signed distance between the two surfaces, world units:
     /// negative where they overlap. Exact to within the finer level set's
-    /// voxel; beyond the level sets' bands it reads as the band's width.
+    /// voxel up to half the wider of the two level sets' exterior bands;
+    /// surfaces farther apart read as that half band (a lower bound).
     double minimum = 0.0;
+    bool exact = true; ///< false: minimum is that lower bound
 };
 
 class ClearanceProbe {
@@ -58,7 +60,13 @@ private:
         std::size_t object;
         std::shared_ptr<const MeshDistance> distance;
     };
-    double surfaceToSurface(std::size_t from, const Surface& to) const;
+    /// One direction of a pair's measure: exact where value < atLeast (half
+    /// the level set's band, world units); else the surfaces are at least that far apart.
+    struct Reading {
+        double value, atLeast;
+        bool exact() const { return value < atLeast; }
+    };
+    Reading surfaceToSurface(std::size_t from, const Surface& to) const;
 
     const Simulator& mSimulator;
     std::vector<Surface> mSurfaces;

@@ -33,6 +33,9 @@ struct ObjectSpec {
     double maxRollRate = 90.0;  ///< dynamic only: degrees/s (0..1e5); per frame at most this / fps
     double maxPitchRate = 60.0; ///< dynamic only: degrees/s (0..1e5)
     std::optional<OctreeFieldOptions> repulsion = OctreeFieldOptions{}; ///< none: no field around it
+    /// For renderers: the diffuse reflectance of a mesh that is not ground
+    /// (terrain and heightmaps are shaded as such), linear RGB (0..1).
+    Vec3d color{0.62, 0.62, 0.66};
 
     /// Throws OptionError naming the first option out of range.
     void validate() const;
@@ -62,6 +65,12 @@ struct UniformFieldSpec {
     Vec3d acceleration{0.0};
     std::optional<BBoxd> box;
     double softEdge = 0.0; ///< world units (0..1e12): width of the linear fade outside the box; needs a box
+    /// Names of the dynamic objects and clouds it acts on (each aircraft its
+    /// own driving force); empty: on everything that moves.
+    std::vector<std::string> affects;
+
+    /// Whether it acts on the object or cloud of this name.
+    bool acts(const std::string& name) const;
 
     Vec3d accelerationAt(const Vec3d& p) const;
     /// Throws OptionError naming the first option out of range.

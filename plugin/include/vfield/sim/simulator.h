@@ -30,6 +30,7 @@
 
 #include <openvdb/openvdb.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -47,8 +48,9 @@ struct SimObject {
     double radius = 0.0;                ///< farthest vertex from the pivot, object units: how far rotation moves it
     MeshLoadReport loadReport;          ///< what loading a mesh file found and repaired
     /// Dynamic objects with a closed mesh: its signed distance (voxel 1/128 of
-    /// its largest extent, out to its field's margin, the whole inside), where
-    /// particles make contact. Null otherwise.
+    /// its largest extent, out to its field's margin but at most half that
+    /// extent, the whole inside), where particles make contact and where
+    /// objects are measured. Null otherwise.
     std::shared_ptr<MeshDistance> distance;
 };
 
@@ -68,6 +70,9 @@ struct StepStats {
     double maxRollChange = 0.0;   ///< the most any dynamic object rolled this frame, degrees
     uint64_t removed = 0;         ///< particles that left the domain this frame
     uint64_t contacts = 0;        ///< particle substeps that ended on a dynamic object's surface (see Simulator)
+    /// Particle substeps that ended inside a dynamic object's closed mesh, by
+    /// its signed distance as the object then stands: zero unless contact failed.
+    uint64_t endedInside = 0;
 };
 
 class Simulator {
@@ -81,8 +86,11 @@ public:
 
     const SimulationSetup& setup() const { return mSetup; }
     int frame() const { return mFrame; }
-    /// Advances the state by one frame (1 / fps seconds).
-    void advanceFrame();
+    /// Advances the state by one frame (1 / fps seconds). With dynamic
+    /// objects, afterDynamicSubstep (if set) runs after each of their shared
+    /// substeps, objectStates() holding the poses at its end: where an exact
+    /// measure of their clearance looks (ClearanceProbe::measureObjects).
+    void advanceFrame(const std::function<void()>& afterDynamicSubstep = {});
 
     const ParticleSet& particles() const { return mParticles; }
     uint64_t removedTotal() const { return mRemovedTotal; }
@@ -117,10 +125,14 @@ private:
         double fieldSpeed = 0.0;
     };
     LocalBound localBound(const Vec3d& p, double time, openvdb::Int32Grid::ConstAccessor* levels) const;
-    void advanceDynamicObjects(double t0, double t1);
+    void advanceDynamicObjects(double t0, double t1, const std::function<void()>& afterSubstep);
+    /// The uniform fields (indices into the setup's) acting at p.
+    Vec3d uniformAcceleration(const std::vector<std::size_t>& fields, const Vec3d& p) const;
     void advanceParticles(double t0, double t1);
     bool resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t, double dt,
                          std::vector<MeshDistance::Accessor>& accessors) const;
+    /// Whether x lies inside a dynamic object's closed mesh as placed at time t.
+    bool endsInside(const Vec3d& x, double t, std::vector<MeshDistance::Accessor>& accessors) const;
     Transform poseAt(std::size_t object, double time) const;
     /// Per repulsive object (mRepulsive order): how fast its field moves this frame, world units / s.
     void measureFieldSpeeds(double t0, double t1);
@@ -130,6 +142,8 @@ private:
     std::vector<DynamicState> mStates, mStatesAtFrameStart;
     std::vector<std::size_t> mRepulsive; ///< objects with a field
     std::vector<std::size_t> mContact;   ///< dynamic objects with a distance (SimObject::distance)
+    /// The uniform fields acting on each object and each cloud (UniformFieldSpec::affects).
+    std::vector<std::vector<std::size_t>> mObjectFields, mCloudFields;
     ParticleSet mParticles;
     BBoxd mDomain;
     double mFinestCell = 0.0;

@@ -24,7 +24,7 @@ namespace vfield {
 struct FrameToRender {
     const RenderSettings* settings = nullptr; ///< image size and samples, sun, sky, medium
     const SurfaceScene* surfaces = nullptr;
-    std::map<int, SurfaceMaterial> materials;                            ///< per object; Painted where missing
+    std::map<int, SurfaceMaterial> materials;                            ///< per object; painted grey where missing
     const CloudVolume* volume = nullptr;                                 ///< may be null: surfaces only
     Camera camera{Vec3d(0, 0, 1), Vec3d(0.0), Vec3d(0, 1, 0), 45, 1, 1}; ///< set per frame
     int frame = 0;                                                       ///< keys the random numbers

@@ -36,7 +36,7 @@ namespace vfield {
 struct PovrayMesh {
     int object = -1; ///< declared as VF_Object_<object>
     const TriangleMesh* mesh = nullptr;
-    SurfaceMaterial material = SurfaceMaterial::Painted;
+    SurfaceMaterial material;
     /// Static meshes are written in world space (placement x mesh); dynamic
     /// ones (no placement) in object space, placed by each frame.
     std::optional<Transform> placement;
