@@ -273,6 +273,14 @@ TEST_CASE("cli: render refuses bad simulations with one line and writes no image
     // A frame simulated again since (an edited scene is simulated afresh) is rendered again.
     std::filesystem::last_write_time(dir + "/sim/density.0002.vdb", written + std::chrono::seconds(1));
     CHECK(render(dir + "/sim").err.find("rendered 1 frame") != std::string::npos);
+    // A frame rendered with other settings is rendered again, then kept.
+    const auto renderAt = [&](const std::string& size) {
+        return vfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/img --frames 2 --resolution " + size,
+                         dir);
+    };
+    CHECK(renderAt("32x18").err.find("rendered 1 frame") != std::string::npos);
+    CHECK(renderAt("32x18").err.find("skipped 1") != std::string::npos);
+    CHECK(render(dir + "/sim").err.find("rendered 1 frame") != std::string::npos);
     std::filesystem::remove_all(dir + "/img");
 
     std::filesystem::remove(dir + "/sim/density.0002.vdb");

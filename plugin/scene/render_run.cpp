@@ -8,10 +8,15 @@
 #include <vfield/render/povray/povray_runner.h>
 #include <vfield/scene/sim_folder.h>
 
+#include <vfield/core/atomic_file.h>
+#include <vfield/core/hash.h>
+
+#include <nlohmann/json.hpp>
 #include <tbb/task_arena.h>
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <optional>
 
@@ -25,6 +30,35 @@ SurfaceMaterial materialOf(const ObjectSpec& object)
 {
     const bool isGround = object.mesh.kind == MeshSource::Kind::Terrain || object.mesh.kind == MeshSource::Kind::Heightmap;
     return isGround ? SurfaceMaterial::terrain() : SurfaceMaterial::painted(object.color);
+}
+
+/// What a frame's images depend on besides its simulation: every render
+/// setting, every surface's material, the back-end and the formats. A frame
+/// rendered with another stamp is stale (a killed 1280x720 run must not leave
+/// its frames among a 960x540 rerun's). Keep in step with RenderSettings.
+uint64_t renderStamp(const RenderSettings& s, const std::map<int, SurfaceMaterial>& materials, const RenderRunOptions& options)
+{
+    ContentHash h;
+    const auto vec = [&](const Vec3d& v) { h.addValue(v); };
+    const auto number = [&](double v) { h.addValue(v); };
+    const auto integer = [&](int64_t v) { h.addValue(v); };
+    const CameraSettings& c = s.camera;
+    vec(c.position), vec(c.lookAt), vec(c.up), number(c.fovDegrees), vec(c.followOffset);
+    h.add(c.followObject.value_or(std::string(1, '\0')));
+    vec(s.sun.direction), vec(s.sun.color), number(s.sun.intensity);
+    vec(s.sky.zenithColor), vec(s.sky.horizonColor), number(s.sky.intensity), number(s.sky.hazeDistance);
+    integer(s.image.width), integer(s.image.height), integer(s.image.samplesPerPixel), integer(s.image.transparentSky);
+    const MediumSettings& m = s.medium;
+    number(m.extinction), number(m.albedo), number(m.anisotropy), number(m.backAnisotropy), number(m.backWeight);
+    const IntegratorSettings& i = s.integrator;
+    integer(int64_t(i.kind)), integer(i.maxBounces), number(i.volumeStep), integer(i.skipEmptySpace);
+    const MultipleScattering& ms = i.multipleScattering;
+    integer(ms.octaves), number(ms.scatteringFalloff), number(ms.extinctionFalloff), number(ms.eccentricityFalloff);
+    number(ms.skyScatteringFalloff);
+    for (const auto& [object, material] : materials) integer(object), integer(int64_t(material.kind)), vec(material.paint);
+    integer(int64_t(options.backend));
+    for (const std::string& format : options.formats) h.add(format);
+    return h.value();
 }
 
 } // namespace
@@ -88,6 +122,15 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
 
     const fs::path out(outputDir);
     std::unique_ptr<PovrayBackend> povray;
+    // Each finished frame's stamp, beside the frames; unreadable: none finished.
+    const std::string stampsPath = (out / "render-stamps.json").string();
+    const std::string stamp = std::to_string(renderStamp(settings, frame.materials, options));
+    nlohmann::json stamps = nlohmann::json::object();
+    if (fs::exists(stampsPath)) {
+        std::ifstream in(stampsPath);
+        stamps = nlohmann::json::parse(in, nullptr, false);
+        if (!stamps.is_object()) stamps = nlohmann::json::object();
+    }
 
     RenderRunSummary summary;
     double seconds = 0.0, embreeSeconds = 0.0, povraySeconds = 0.0;
@@ -102,15 +145,17 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
         outputs = embreeImages;
         if (usePovray) outputs.push_back(povrayImage);
         if (both) outputs.push_back(sideBySide);
-        // Finished: every output exists and is newer than the frame's simulation
-        // (a frame simulated again since, after an edit of the scene, is stale).
+        // Finished: rendered with these settings, and every output exists and
+        // is newer than the frame's simulation (a frame simulated again since,
+        // after an edit of the scene, is stale).
         const auto writeTime = [](const std::string& path) {
             std::error_code ec;
             const fs::file_time_type time = fs::last_write_time(path, ec);
             return ec ? fs::file_time_type::min() : time;
         };
         const fs::file_time_type simulated = writeTime(simulation.densityFile(f));
-        const bool done = std::all_of(outputs.begin(), outputs.end(),
+        const bool done = stamps.value(std::to_string(f), std::string()) == stamp &&
+                          std::all_of(outputs.begin(), outputs.end(),
                                       [&](const std::string& p) { return fs::exists(p) && writeTime(p) >= simulated; });
         if (done && !options.force) {
             ++summary.skipped;
@@ -163,6 +208,8 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
             povraySeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - povrayStart).count();
         }
         if (both) writeSideBySide(((out / "embree") / frameFileName("frame", f, "png")).string(), povrayImage, sideBySide);
+        stamps[std::to_string(f)] = stamp;
+        writeTextAtomically(stampsPath, stamps.dump(1) + "\n");
 
         seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         ++summary.rendered;
