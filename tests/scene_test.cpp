@@ -60,6 +60,25 @@ TEST_CASE("scene: bad values are refused with their JSON path", "[scene]")
                       Catch::Contains("/objects/0/mass: \"mass\" applies to dynamic objects only"));
 }
 
+TEST_CASE("scene: a potential flow is refused where nothing in it would push", "[scene]")
+{
+    const std::string flow = R"({"name": "hill", "mesh": {"box": {}}, "repulsion": {"method": "potentialFlow"}})";
+    const std::string plane = R"({"name": "plane", "mesh": {"box": {}}, "motion": "dynamic"})";
+    CHECK_THROWS_WITH(parseScene(R"({"version": 1, "objects": [)" + flow + ", " + plane + "]}", "s.json"),
+                      "s.json: /objects/0/repulsion/method: potentialFlow acts on clouds only, and dynamic object "
+                      "\"plane\" would pass through it");
+    CHECK_THROWS_WITH(parseScene(R"({"version": 1, "objects": [)" + flow + R"(], "clouds": [{"drag": 0}]})", "s.json"),
+                      Catch::Contains("/clouds/0/drag: a potential flow carries particles"));
+    CHECK_THROWS_WITH(
+        parseScene(R"({"version": 1, "objects": [{"name": "a", "mesh": {"box": {}}, "repulsion": {"method": "sdf"}}]})",
+                   "s.json"),
+        Catch::Contains("/objects/0/repulsion/method"));
+    CHECK_THROWS_WITH(
+        parseScene(R"({"version": 1, "objects": [{"name": "a", "mesh": {"box": {}}, "repulsion": {"voxelSize": 0.1}}]})",
+                   "s.json"),
+        Catch::Contains("/objects/0/repulsion/voxelSize: applies to the distance and potentialFlow methods"));
+}
+
 TEST_CASE("scene: absurd sizes are refused before anything is allocated", "[scene]")
 {
     CHECK_THROWS_WITH(sceneWith(R"(, "clouds": [{"count": 100000000000}])"), Catch::Contains("/clouds/0/count"));

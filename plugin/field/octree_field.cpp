@@ -24,18 +24,16 @@ void OctreeFieldOptions::validate() const
     requireNumber("surfaceBoost", surfaceBoost, 1.0, 1e12);
 }
 
-OctreeFieldOptions octreeFieldOptionsFromJson(const JsonValue& json)
+void readOctreeFieldKeys(JsonObject& o, OctreeFieldOptions& options)
 {
-    return readOptions<OctreeFieldOptions>(json, [&](JsonObject& o, OctreeFieldOptions& options) {
-        if (const auto margin = o.find("margin")) options.margin = margin->asNumber();
-        options.maxPerLeaf = o.integer("maxPerLeaf", options.maxPerLeaf);
-        options.maxLevel = o.integer("maxLevel", options.maxLevel);
-        options.strength = o.number("strength", options.strength);
-        options.surfaceBoost = o.number("surfaceBoost", options.surfaceBoost);
-        options.flipNormals = o.boolean("flipNormals", options.flipNormals);
-        options.splitRule =
-            o.choice("splitRule", "normalCone", {"normalCone", "paper"}) == "paper" ? SplitRule::Paper : SplitRule::NormalCone;
-    });
+    if (const auto margin = o.find("margin")) options.margin = margin->asNumber();
+    options.maxPerLeaf = o.integer("maxPerLeaf", options.maxPerLeaf);
+    options.maxLevel = o.integer("maxLevel", options.maxLevel);
+    options.strength = o.number("strength", options.strength);
+    options.surfaceBoost = o.number("surfaceBoost", options.surfaceBoost);
+    options.flipNormals = o.boolean("flipNormals", options.flipNormals);
+    options.splitRule =
+        o.choice("splitRule", "normalCone", {"normalCone", "paper"}) == "paper" ? SplitRule::Paper : SplitRule::NormalCone;
 }
 
 double OctreeField::cellSize(int level) const { return mCellSize[level]; }

@@ -152,6 +152,10 @@ void renderSectionFromJson(const JsonValue& json, RenderSettings& settings)
     integrator.maxBounces = o.integer("maxBounces", integrator.maxBounces);
     integrator.volumeStep = o.number("volumeStep", integrator.volumeStep);
     integrator.skipEmptySpace = o.boolean("skipEmptySpace", integrator.skipEmptySpace);
+    const bool preview = settings.povrayQuality == PovrayQuality::Preview;
+    settings.povrayQuality = o.choice("povrayQuality", preview ? "preview" : "final", {"final", "preview"}) == "preview"
+                                 ? PovrayQuality::Preview
+                                 : PovrayQuality::Final;
     if (const auto octaves = o.find("multipleScattering"))
         integrator.multipleScattering = readOptions<MultipleScattering>(*octaves, [](JsonObject& m, MultipleScattering& v) {
             v.octaves = m.integer("octaves", v.octaves);

@@ -55,6 +55,7 @@ uint64_t renderStamp(const RenderSettings& s, const std::map<int, SurfaceMateria
     const MultipleScattering& ms = i.multipleScattering;
     integer(ms.octaves), number(ms.scatteringFalloff), number(ms.extinctionFalloff), number(ms.eccentricityFalloff);
     number(ms.skyScatteringFalloff);
+    integer(int64_t(s.povrayQuality));
     for (const auto& [object, material] : materials) integer(object), integer(int64_t(material.kind)), vec(material.paint);
     integer(int64_t(options.backend));
     for (const std::string& format : options.formats) h.add(format);

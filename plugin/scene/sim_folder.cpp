@@ -36,7 +36,8 @@ Vec3d vecFromJson(const nlohmann::json& j) { return Vec3d(j.at(0).get<double>(),
 nlohmann::json toJson(const ClearanceStats& c)
 {
     if (c.samples == 0) return nullptr;
-    return {{"min", c.minimum}, {"p01", c.percentile1}, {"penetrations", c.penetrations}, {"samples", c.samples}};
+    return {
+        {"min", c.minimum}, {"p01", c.percentile1}, {"mean", c.mean}, {"penetrations", c.penetrations}, {"samples", c.samples}};
 }
 
 ClearanceStats clearanceFromJson(const nlohmann::json& j)
@@ -45,6 +46,7 @@ ClearanceStats clearanceFromJson(const nlohmann::json& j)
     if (j.is_null()) return c;
     c.minimum = j.at("min").get<double>();
     c.percentile1 = j.at("p01").get<double>();
+    c.mean = j.value("mean", 0.0); // absent from runs saved before it was measured
     c.penetrations = j.at("penetrations").get<uint64_t>();
     c.samples = j.at("samples").get<uint64_t>();
     return c;
@@ -68,6 +70,7 @@ nlohmann::json toJson(const FrameRecord& r)
             {"contacts", r.contacts},
             {"endedInside", r.endedInside},
             {"maxRollChangeDegrees", r.maxRollChange},
+            {"seconds", r.seconds},
             {"clearance", {{"particles", toJson(r.particleClearance)}, {"objects", pairs}}}};
 }
 
@@ -83,6 +86,7 @@ FrameRecord recordFromJson(const nlohmann::json& j)
     r.contacts = j.at("contacts").get<uint64_t>();
     r.endedInside = j.value("endedInside", uint64_t(0));
     r.maxRollChange = j.at("maxRollChangeDegrees").get<double>();
+    r.seconds = j.value("seconds", 0.0);
     if (!j.at("centroid").is_null()) {
         r.centroid = vecFromJson(j.at("centroid"));
         r.bounds = BBoxd(vecFromJson(j.at("boundsMin")), vecFromJson(j.at("boundsMax")));
@@ -177,6 +181,7 @@ void add(ContentHash& h, const BBoxd& b)
     add(h, b.max());
 }
 void add(ContentHash& h, const OctreeFieldOptions& o);
+void add(ContentHash& h, const RepulsionOptions& o);
 
 template<typename T>
 void add(ContentHash& h, const std::optional<T>& v)
@@ -240,6 +245,13 @@ void add(ContentHash& h, const OctreeFieldOptions& o)
     add(h, o.surfaceBoost);
     add(h, int64_t(o.flipNormals));
     add(h, int64_t(o.splitRule));
+}
+
+void add(ContentHash& h, const RepulsionOptions& o)
+{
+    add(h, int64_t(o.method));
+    add(h, o.field);
+    add(h, o.voxelSize);
 }
 
 void add(ContentHash& h, const ObjectSpec& o)
@@ -375,11 +387,20 @@ Tracks SimFolder::readTracks() const
     return Tracks::fromJsonText(readFile(path), path);
 }
 
-std::vector<FrameRecord> SimFolder::readStats() const
+StatsFile SimFolder::readStats() const
 {
     const std::string path = statsFile();
+    if (!fs::exists(path)) throw FileError(path, "no statistics (simulate the scene first)");
     try {
-        return recordsFromJson(nlohmann::json::parse(readFile(path)).at("frames"));
+        const nlohmann::json json = nlohmann::json::parse(readFile(path));
+        StatsFile stats;
+        stats.fps = json.at("fps").get<double>();
+        for (const nlohmann::json& f : json.at("fields"))
+            stats.fields.push_back({f.at("object").get<std::string>(), f.at("method").get<std::string>(),
+                                    f.at("buildSeconds").get<double>(), f.at("memoryBytes").get<uint64_t>(),
+                                    f.at("finestCell").get<double>()});
+        stats.frames = recordsFromJson(json.at("frames"));
+        return stats;
     } catch (const nlohmann::json::exception& e) {
         throw FileError(path, std::string("unreadable statistics: ") + e.what());
     }
@@ -434,9 +455,16 @@ void SimFolder::writeFrame(int frame, const DensityGrids& volume, const openvdb:
 
 void SimFolder::writeTracks(const Tracks& tracks, double fps) const { writeTextAtomically(tracksFile(), tracks.toJsonText(fps)); }
 
-void SimFolder::writeStats(const std::vector<FrameRecord>& records, double fps) const
+void SimFolder::writeStats(const std::vector<FrameRecord>& records, const std::vector<FieldRecord>& fields, double fps) const
 {
-    const nlohmann::json stats = {{"fps", fps}, {"frames", recordsToJson(records)}};
+    nlohmann::json fieldsJson = nlohmann::json::array();
+    for (const FieldRecord& f : fields)
+        fieldsJson.push_back({{"object", f.object},
+                              {"method", f.method},
+                              {"buildSeconds", f.buildSeconds},
+                              {"memoryBytes", f.memoryBytes},
+                              {"finestCell", f.finestCell}});
+    const nlohmann::json stats = {{"fps", fps}, {"fields", fieldsJson}, {"frames", recordsToJson(records)}};
     writeTextAtomically(statsFile(), stats.dump(1) + "\n");
 }
 

@@ -20,6 +20,8 @@ void accumulate(ClearanceStats& worst, const ClearanceStats& frame)
     if (frame.samples == 0) return;
     if (worst.samples == 0 || frame.minimum < worst.minimum) worst.minimum = frame.minimum;
     if (worst.samples == 0 || frame.percentile1 < worst.percentile1) worst.percentile1 = frame.percentile1;
+    worst.mean =
+        (worst.mean * double(worst.samples) + frame.mean * double(frame.samples)) / double(worst.samples + frame.samples);
     worst.penetrations += frame.penetrations;
     worst.samples += frame.samples;
 }
@@ -91,8 +93,14 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
     if (!fs::exists(folder.fieldFile())) writeVdb(folder.fieldFile(), {simulator.staticForceGrid()});
 
     std::vector<std::size_t> dynamic;
-    for (std::size_t i = 0; i < simulator.objects().size(); ++i)
-        if (simulator.objects()[i].spec->isDynamic) dynamic.push_back(i);
+    std::vector<FieldRecord> fields;
+    for (std::size_t i = 0; i < simulator.objects().size(); ++i) {
+        const SimObject& object = simulator.objects()[i];
+        if (object.spec->isDynamic) dynamic.push_back(i);
+        if (!object.field) continue;
+        fields.push_back({object.spec->name, repulsionMethodName(object.field->method()), object.fieldSeconds,
+                          uint64_t(object.field->memoryBytes()), object.field->finestCellSize() * object.spec->transform.scale});
+    }
 
     const auto start = std::chrono::steady_clock::now();
     const bool resumed = summary.resumedAfterFrame >= 0;
@@ -109,6 +117,7 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
     };
     for (bool first = !resumed; simulator.frame() < writeLast || first; first = false) {
         closestInFrame.clear();
+        const auto frameStart = std::chrono::steady_clock::now();
         if (first) measurePairs(); // the initial poses; every later frame's last substep ends at it
         else simulator.advanceFrame(measurePairs);
         const int frame = simulator.frame();
@@ -125,6 +134,7 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
         record.maxRollChange = simulator.lastStep().maxRollChange;
         record.particleClearance = clearance.measureParticles();
         record.objectPairs = closestInFrame;
+        record.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - frameStart).count();
         for (const Vec3f& p : simulator.particles().position) {
             record.centroid += Vec3d(p);
             record.bounds.expand(Vec3d(p));
@@ -136,7 +146,7 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
         if (frame >= writeFirst)
             folder.writeFrame(frame, splatParticles(simulator.particles(), scene.volume),
                               makeParticleGrid(simulator.particles()));
-        folder.writeStats(run.records, setup.fps);
+        folder.writeStats(run.records, fields, setup.fps);
         folder.writeTracks(run.tracks, setup.fps);
         run.simulatorState = simulator.serializeState();
         folder.writeRunState(run); // last: marks the frame complete

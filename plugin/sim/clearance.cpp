@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 namespace vfield {
 
@@ -99,6 +100,7 @@ ClearanceStats ClearanceProbe::measure(const std::vector<Vec3d>& points) const
     });
     stats.samples = d.size();
     stats.penetrations = uint64_t(std::count_if(d.begin(), d.end(), [](double v) { return v < 0.0; }));
+    stats.mean = std::accumulate(d.begin(), d.end(), 0.0) / double(d.size()); // in order: thread-independent
     const std::size_t k = d.size() / 100;
     std::nth_element(d.begin(), d.begin() + std::ptrdiff_t(k), d.end());
     stats.percentile1 = d[k];

@@ -84,12 +84,25 @@ void SimulationSetup::validate() const
         const std::string key = "objects/" + std::to_string(i);
         validatePart(key, objects[i]);
         require(names.insert(objects[i].name).second, key, "another object is already named \"" + objects[i].name + "\"");
+        // A potential flow deflects the clouds' wind; nothing in it would push an aircraft.
+        if (objects[i].repulsion && objects[i].repulsion->method == RepulsionMethod::PotentialFlow) {
+            require(!objects[i].isDynamic, key + "/repulsion/method", "potentialFlow applies to static objects only");
+            const auto dynamic = std::find_if(objects.begin(), objects.end(), [](const ObjectSpec& o) { return o.isDynamic; });
+            require(dynamic == objects.end(), key + "/repulsion/method",
+                    "potentialFlow acts on clouds only, and dynamic object \"" +
+                        (dynamic == objects.end() ? std::string() : dynamic->name) + "\" would pass through it");
+        }
     }
     require(clouds.size() <= 65535, "clouds", "at most 65535 clouds");
     int64_t particles = 0;
     for (std::size_t i = 0; i < clouds.size(); ++i) {
         const std::string key = "clouds/" + std::to_string(i);
         validatePart(key, clouds[i]);
+        const bool flows = std::any_of(objects.begin(), objects.end(), [](const ObjectSpec& o) {
+            return o.repulsion && o.repulsion->method == RepulsionMethod::PotentialFlow;
+        });
+        require(!flows || clouds[i].drag > 0.0, key + "/drag",
+                "a potential flow carries particles at acceleration / drag: needs a drag above 0");
         particles += clouds[i].count;
         require(particles <= kMaxParticles, key,
                 "the clouds ask for more than " + std::to_string(kMaxParticles) + " particles in all");
@@ -137,10 +150,10 @@ ObjectSpec objectSpecFromJson(const JsonValue& json, const std::string& baseDir)
         spec.isDynamic = motion == "dynamic";
         if (const auto repulsion = o.find("repulsion")) {
             if (repulsion->isBool()) {
-                if (repulsion->asBool()) spec.repulsion = OctreeFieldOptions{};
+                if (repulsion->asBool()) spec.repulsion = RepulsionOptions{};
                 else spec.repulsion.reset();
             } else {
-                spec.repulsion = octreeFieldOptionsFromJson(*repulsion);
+                spec.repulsion = repulsionOptionsFromJson(*repulsion);
             }
         }
         if (spec.isDynamic) {

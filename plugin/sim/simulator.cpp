@@ -1,7 +1,6 @@
 #include <vfield/sim/simulator.h>
 
 #include <vfield/core/error.h>
-#include <vfield/field/field_grid.h>
 
 #include <openvdb/tools/Composite.h>
 #include <openvdb/tools/GridTransformer.h>
@@ -10,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -128,6 +128,14 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
     int64_t total = 0;
     for (const CloudSpec& c : setup.clouds) total += c.count;
 
+    // What a potential flow deflects: the wind every cloud feels everywhere.
+    Vec3d cloudsWind(0.0);
+    if (!setup.clouds.empty())
+        for (const UniformFieldSpec& field : setup.fields)
+            if (!field.box && std::all_of(setup.clouds.begin(), setup.clouds.end(),
+                                          [&](const CloudSpec& cloud) { return field.acts(cloud.name); }))
+                cloudsWind += field.acceleration;
+
     // Meshes and fields, objects in parallel (each build is parallel too).
     mObjects.resize(mSetup.objects.size());
     tbb::parallel_for(std::size_t(0), mObjects.size(), [&](std::size_t i) {
@@ -135,12 +143,10 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
         object.spec = &mSetup.objects[i];
         object.mesh = makeMesh(object.spec->mesh, &object.loadReport);
         if (object.spec->repulsion) {
-            object.field = std::make_shared<OctreeField>(OctreeField::build(object.mesh, *object.spec->repulsion));
-            VoxelizeOptions voxelize;
-            voxelize.withSurface = false;
-            const FieldGrids grids = voxelizeField(*object.field, voxelize);
-            object.forceGrid = grids.force;
-            object.levelGrid = grids.level;
+            const auto start = std::chrono::steady_clock::now();
+            object.field =
+                RepulsionField::build(object.mesh, *object.spec->repulsion, object.spec->transform.rotateToObject(cloudsWind));
+            object.fieldSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         }
         if (object.spec->isDynamic) {
             for (std::size_t t = 0; t < object.mesh.triangleCount(); ++t) object.centroids.push_back(object.mesh.centroid(t));
@@ -167,6 +173,7 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
         if (object.spec->isDynamic) turn(mStates[i], Vec3d(0.0), *object.spec, 0.0);
         if (object.distance) mContact.push_back(i);
         if (!object.field) continue;
+        if (object.field->isFlow()) mFlow.push_back(mRepulsive.size());
         mRepulsive.push_back(i);
         const double scale = object.spec->transform.scale;
         mFinestCell = std::min(mFinestCell, object.field->finestCellSize() * scale);
@@ -232,9 +239,9 @@ Transform Simulator::poseAt(std::size_t object, double time) const
     return pose;
 }
 
-Vec3d Simulator::repulsion(const Vec3d& p, double time, openvdb::Vec3SGrid::ConstAccessor* accessors) const
+Vec3d Simulator::repulsion(const Vec3d& p, double time, double mass, openvdb::Vec3SGrid::ConstAccessor* accessors) const
 {
-    Vec3d force(0.0);
+    Vec3d force(0.0), flow(0.0);
     for (std::size_t k = 0; k < mRepulsive.size(); ++k) {
         const std::size_t i = mRepulsive[k];
         const SimObject& object = mObjects[i];
@@ -242,14 +249,15 @@ Vec3d Simulator::repulsion(const Vec3d& p, double time, openvdb::Vec3SGrid::Cons
         const bool rotated = isRotated(pose);
         const Vec3d local = objectPoint(pose, p);
         if (!object.field->bounds().isInside(local)) continue;
-        const openvdb::Vec3d index = object.forceGrid->transform().worldToIndex(local);
+        const openvdb::Vec3d index = object.field->force()->transform().worldToIndex(local);
         openvdb::Vec3s f;
         if (mSetup.options.sampling == SimulationOptions::Sampling::Nearest)
             openvdb::tools::PointSampler::sample(accessors[k], index, f);
         else openvdb::tools::BoxSampler::sample(accessors[k], index, f);
-        force += rotated ? pose.rotateToWorld(Vec3d(f)) : Vec3d(f);
+        const Vec3d world = rotated ? pose.rotateToWorld(Vec3d(f)) : Vec3d(f);
+        (object.field->isFlow() ? flow : force) += world;
     }
-    return force;
+    return force / mass + flow;
 }
 
 void Simulator::advanceDynamicObjects(double t0, double t1, const std::function<void()>& afterSubstep)
@@ -340,7 +348,7 @@ Simulator::LocalBound Simulator::localBound(const Vec3d& p, double time, openvdb
         const SimObject& object = mObjects[i];
         const Transform pose = object.spec->isDynamic ? poseAt(i, time) : mStates[i].pose;
         const Vec3d local = objectPoint(pose, p);
-        const OctreeField& field = *object.field;
+        const RepulsionField& field = *object.field;
         // A moving field reaches whatever its root sweeps over during the frame.
         const double sweep = k < mFieldSpeed.size() ? mFieldSpeed[k] * mFieldFrameTime / pose.scale : 0.0;
         BBoxd reach = field.bounds();
@@ -350,7 +358,7 @@ Simulator::LocalBound Simulator::localBound(const Vec3d& p, double time, openvdb
         // The leaf's level from the voxel holding p: finest-leaf voxels never straddle a leaf.
         const int level =
             field.bounds().isInside(local)
-                ? std::max(levels[k].getValue(openvdb::Coord::round(object.levelGrid->transform().worldToIndex(local))), 1)
+                ? std::max(levels[k].getValue(openvdb::Coord::round(field.level()->transform().worldToIndex(local))), 1)
                 : field.depth();
         cell = std::min(cell, field.cellSize(level) * pose.scale);
         if (k < mFieldSpeed.size()) bound.fieldSpeed = std::max(bound.fieldSpeed, mFieldSpeed[k]);
@@ -399,6 +407,18 @@ bool Simulator::resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t,
     return touched;
 }
 
+bool Simulator::inFlow(const Vec3d& p, openvdb::Int32Grid::ConstAccessor* levels) const
+{
+    for (const std::size_t k : mFlow) {
+        const RepulsionField& field = *mObjects[mRepulsive[k]].field;
+        const Vec3d local = objectPoint(mStates[mRepulsive[k]].pose, p); // flows are static
+        if (field.bounds().isInside(local) &&
+            levels[k].getValue(openvdb::Coord::round(field.level()->transform().worldToIndex(local))) > 0)
+            return true;
+    }
+    return false;
+}
+
 bool Simulator::endsInside(const Vec3d& x, double t, std::vector<MeshDistance::Accessor>& accessors) const
 {
     for (std::size_t k = 0; k < mContact.size(); ++k) {
@@ -424,8 +444,8 @@ void Simulator::advanceParticles(double t0, double t1)
         std::vector<openvdb::Vec3SGrid::ConstAccessor> accessors;
         std::vector<openvdb::Int32Grid::ConstAccessor> levels;
         for (const std::size_t i : mRepulsive) {
-            accessors.push_back(mObjects[i].forceGrid->getConstAccessor());
-            levels.push_back(mObjects[i].levelGrid->getConstAccessor());
+            accessors.push_back(mObjects[i].field->force()->getConstAccessor());
+            levels.push_back(mObjects[i].field->level()->getConstAccessor());
         }
         std::vector<MeshDistance::Accessor> distances;
         for (const std::size_t i : mContact) distances.push_back(mObjects[i].distance->accessor());
@@ -437,7 +457,11 @@ void Simulator::advanceParticles(double t0, double t1)
             uint32_t steps = 0;
             while (t < t1) {
                 Vec3d a = uniformAcceleration(fields, x);
-                a += repulsion(x, t, accessors.data()) / cloud.mass;
+                a += repulsion(x, t, cloud.mass, accessors.data());
+                // In a potential flow's band the particle moves with the flow:
+                // at the terminal velocity of what acts on it, without inertia.
+                const bool carried = inFlow(x, levels.data());
+                if (carried) v = a / cloud.drag;
                 // Each move stays within cfl of the cells around the particle,
                 // counting the motion of fields sweeping over it; where the
                 // step would end in finer cells, those bound it too.
@@ -449,7 +473,8 @@ void Simulator::advanceParticles(double t0, double t1)
                                                 cfl * std::min(here.cell, there.cell)));
                 dt = std::max(dt, 1e-9 * (t1 - t0));
                 const Vec3d from = x;
-                integrateWithDrag(x, v, a, cloud.drag, dt);
+                if (carried) x += v * dt;
+                else integrateWithDrag(x, v, a, cloud.drag, dt);
                 if (!mContact.empty()) {
                     if (resolveContacts(from, x, v, t, dt, distances)) ++contactsOf[p];
                     if (endsInside(x, t + dt, distances)) ++insideOf[p];
@@ -496,7 +521,7 @@ openvdb::Vec3SGrid::Ptr Simulator::staticForceGrid() const
         if (object.spec->isDynamic) continue;
         const Transform& pose = mStates[i].pose;
         // Forces rotate with the object; positions follow its transform.
-        openvdb::Vec3SGrid::Ptr world = object.forceGrid->deepCopy();
+        openvdb::Vec3SGrid::Ptr world = object.field->force()->deepCopy();
         if (!pose.rotation.eq(Quatd::identity()))
             for (auto it = world->tree().beginValueOn(); it; ++it) it.setValue(openvdb::Vec3s(pose.rotateToWorld(Vec3d(*it))));
         world->transform().postMult(pose.matrix());

@@ -176,7 +176,7 @@ void BM_PovrayFrame(benchmark::State& state)
         cloud.skyLitPlacement = writeDf3(*lighting.skyLitDensity(), dir + "/sky_lit.df3");
         frame.cloud = cloud;
         writeTextAtomically(dir + "/frame.pov", povrayFrameText(frame));
-        runPovray(dir, "frame.pov", "frame.png", settings.image, 2);
+        runPovray(dir, "frame.pov", "frame.png", settings.image, PovrayQuality::Final, 2);
     }
 }
 BENCHMARK(BM_PovrayFrame)

@@ -64,6 +64,25 @@ void addSplitRuleOption(CLI::App& command, std::optional<SplitRule>& rule)
         ->type_name("normalCone|paper");
 }
 
+void addRepulsionMethodOption(CLI::App& command, std::optional<RepulsionMethod>& method)
+{
+    command
+        .add_option_function<std::string>(
+            "--repulsion-method",
+            [&method](const std::string& text) {
+                for (const RepulsionMethod m :
+                     {RepulsionMethod::Octree, RepulsionMethod::Distance, RepulsionMethod::PotentialFlow})
+                    if (text == repulsionMethodName(m)) method = m;
+                if (!method)
+                    throw CLI::ValidationError("--repulsion-method",
+                                               "expected octree, distance or potentialFlow, got '" + text + "'");
+            },
+            "How every object's repulsive field is made: octree (the paper's), distance (from the signed distance) "
+            "or potentialFlow (the clouds' wind flowing around static objects) [default: each object's "
+            "repulsion.method]")
+        ->type_name("octree|distance|potentialFlow");
+}
+
 void addMaxMemoryOption(CLI::App& command, std::optional<double>& bytes)
 {
     command

@@ -5,6 +5,7 @@
 #include "command.h"
 
 #include <vfield/field/octree_field.h>
+#include <vfield/field/repulsion_field.h>
 #include <vfield/render/render_settings.h>
 
 #include <optional>
@@ -20,6 +21,8 @@ void addFrameRangeOption(CLI::App& command, std::optional<FrameRange>& range, co
 
 /// --split-rule normalCone|paper, for every command that builds a field.
 void addSplitRuleOption(CLI::App& command, std::optional<SplitRule>& rule);
+/// --repulsion-method for every object of a scene.
+void addRepulsionMethodOption(CLI::App& command, std::optional<RepulsionMethod>& method);
 
 /// --max-memory SIZE (bytes, or with K, M, G, T: binary multiples) for the commands that simulate.
 void addMaxMemoryOption(CLI::App& command, std::optional<double>& bytes);

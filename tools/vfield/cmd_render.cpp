@@ -138,6 +138,7 @@ Runner registerRun(CLI::App& app, const GlobalOptions& global)
         "run", "Simulate and render a scene: OUT/sim/ (volumes, particles, tracks, stats) and OUT/frame.####.png");
     addSceneOptions(*command, o->scene);
     addSplitRuleOption(*command, o->scene.splitRule);
+    addRepulsionMethodOption(*command, o->scene.repulsionMethod);
     command->add_option("-o,--output", o->output, "Output folder")->required();
     addRenderOptions(*command, o->render);
     addMaxMemoryOption(*command, o->maxMemory);

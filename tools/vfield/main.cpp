@@ -56,6 +56,8 @@ int main(int argc, char** argv)
         {"render", registerRender(app, global)},
         {"run", registerRun(app, global)},
         {"compare", registerCompare(app, global)},
+        {"metrics", registerMetrics(app, global)},
+        {"farm", registerFarm(app, global)},
     };
 
     try {

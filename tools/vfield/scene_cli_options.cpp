@@ -2,9 +2,9 @@
 
 namespace vfield::cli {
 
-void addSceneOptions(CLI::App& command, SceneCliOptions& options)
+void addSceneOptions(CLI::App& command, SceneCliOptions& options, bool sceneRequired)
 {
-    command.add_option("scene", options.path, "Scene file (JSON, see scenes/README.md)")->required();
+    command.add_option("scene", options.path, "Scene file (JSON, see scenes/README.md)")->required(sceneRequired);
     command
         .add_option("--set", options.overrides,
                     "Change a scene value before reading it: JSON pointer=JSON value, e.g. --set /clouds/0/count=5000 "
@@ -22,9 +22,11 @@ Scene loadScene(const SceneCliOptions& options)
         overrides.push_back({text.substr(0, equals), text.substr(equals + 1)});
     }
     Scene scene = vfield::loadScene(options.path, overrides);
-    if (options.splitRule)
-        for (ObjectSpec& object : scene.simulation.objects)
-            if (object.repulsion) object.repulsion->splitRule = *options.splitRule;
+    for (ObjectSpec& object : scene.simulation.objects) {
+        if (!object.repulsion) continue;
+        if (options.splitRule) object.repulsion->field.splitRule = *options.splitRule;
+        if (options.repulsionMethod) object.repulsion->method = *options.repulsionMethod;
+    }
     return scene;
 }
 

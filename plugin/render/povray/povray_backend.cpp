@@ -57,7 +57,7 @@ void PovrayBackend::render(int frame, const Camera& camera, const std::map<int, 
     }
     writeTextAtomically((folder / scene).string(), povrayFrameText(pov));
     try {
-        runPovray(mOptions.workFolder, scene, rendered, mSettings.image, mOptions.threads);
+        runPovray(mOptions.workFolder, scene, rendered, mSettings.image, mSettings.povrayQuality, mOptions.threads);
     } catch (...) {
         mOptions.keepScene = true; // a failed frame's scene files and log stay for inspection
         throw;

@@ -61,7 +61,7 @@ void requirePovray()
 }
 
 void runPovray(const std::string& folder, const std::string& sceneFile, const std::string& imageFile, const ImageSettings& image,
-               int threads)
+               PovrayQuality quality, int threads)
 {
     requirePovray();
     image.validate();
@@ -79,7 +79,10 @@ void runPovray(const std::string& folder, const std::string& sceneFile, const st
                                      "+FN", // PNG
                                      "File_Gamma=sRGB"};
     const int grid = std::clamp(int(std::lround(std::sqrt(double(image.samplesPerPixel)))), 1, 9);
-    if (grid > 1) {
+    if (quality == PovrayQuality::Preview && image.samplesPerPixel > 1) {
+        // Supersampled 2 x 2 only where a pixel stands out from its neighbours.
+        for (const char* a : {"+A0.3", "+AM1", "+R2", "-J"}) args.push_back(a);
+    } else if (grid > 1) {
         // Threshold 0 supersamples every pixel on an unjittered n x n grid.
         for (const std::string& a : {std::string("+A0.0"), std::string("+AM1"), "+R" + std::to_string(grid), std::string("-J")})
             args.push_back(a);

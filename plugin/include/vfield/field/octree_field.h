@@ -141,9 +141,10 @@ private:
 
 namespace vfield {
 
-class JsonValue;
-/// The "repulsion" object of a scene file: margin, maxPerLeaf, maxLevel,
-/// strength, surfaceBoost (all optional, defaults as OctreeFieldOptions).
-OctreeFieldOptions octreeFieldOptionsFromJson(const JsonValue& json);
+class JsonObject;
+/// The octree's keys of a scene file's "repulsion" object: margin,
+/// maxPerLeaf, maxLevel, strength, surfaceBoost, flipNormals, splitRule (all
+/// optional, defaults as OctreeFieldOptions).
+void readOctreeFieldKeys(JsonObject& object, OctreeFieldOptions& options);
 
 } // namespace vfield

@@ -130,6 +130,17 @@ struct IntegratorSettings {
     void validate() const;
 };
 
+/// How the POV-Ray back-end trades time for quality.
+enum class PovrayQuality {
+    /// Every pixel supersampled on an unjittered n x n grid (samplesPerPixel =
+    /// n^2), media sampled at every volumeStep: what the golden images take.
+    Final,
+    /// Antialiasing where a pixel differs from its neighbours by more than
+    /// 0.3 only (2 x 2, one level deep), a quarter of the media samples
+    /// (at least 8): for previews and farm dailies.
+    Preview
+};
+
 struct RenderSettings {
     CameraSettings camera;
     SunSettings sun;
@@ -137,6 +148,7 @@ struct RenderSettings {
     ImageSettings image;
     MediumSettings medium;
     IntegratorSettings integrator;
+    PovrayQuality povrayQuality = PovrayQuality::Final;
 
     /// Checks every part; keys as in a scene file ("camera/fovDegrees",
     /// "render/resolution/0", "render/albedo", ...). Throws OptionError.

@@ -51,16 +51,33 @@ private:
 };
 
 /// One frame's line of stats.json.
+/// How an object's repulsive field was made, as the last run built it.
+struct FieldRecord {
+    std::string object;
+    std::string method;        ///< repulsionMethodName()
+    double buildSeconds = 0.0; ///< wall clock, building and voxelizing
+    uint64_t memoryBytes = 0;  ///< RepulsionField::memoryBytes()
+    double finestCell = 0.0;   ///< world units
+};
+
 struct FrameRecord {
     int frame = 0;
     uint64_t alive = 0, removed = 0, substeps = 0, contacts = 0;
     uint64_t endedInside = 0; ///< particle substeps that ended inside a dynamic object (StepStats)
     uint32_t maxSubsteps = 0, dynamicSubsteps = 0;
     double maxRollChange = 0.0;             ///< degrees, the most any dynamic object rolled over the frame
+    double seconds = 0.0;                   ///< wall clock of simulating and measuring the frame
     ClearanceStats particleClearance;       ///< the particles against every object
     std::vector<PairClearance> objectPairs; ///< every dynamic object against every other: closest over the frame's substeps
     Vec3d centroid{0.0};                    ///< mean particle position, world units
     BBoxd bounds;                           ///< box of the particles (empty without particles)
+};
+
+/// stats.json as written by writeStats.
+struct StatsFile {
+    double fps = 24.0;
+    std::vector<FieldRecord> fields;
+    std::vector<FrameRecord> frames;
 };
 
 /// What a resumed run needs: the simulator's state after the last complete
@@ -98,13 +115,14 @@ public:
     openvdb::FloatGrid::Ptr readDensity(int frame) const;
     /// tracks.json. Throws FileError when it is missing or unreadable.
     Tracks readTracks() const;
-    std::vector<FrameRecord> readStats() const;
+    StatsFile readStats() const;
     bool hasRunState() const;
     RunState readRunState() const;
 
     void writeFrame(int frame, const DensityGrids& volume, const openvdb::GridBase::Ptr& particles) const;
     void writeTracks(const Tracks& tracks, double fps) const;
-    void writeStats(const std::vector<FrameRecord>& records, double fps) const;
+    /// stats.json: the fields as this run built them, then every frame's record.
+    void writeStats(const std::vector<FrameRecord>& records, const std::vector<FieldRecord>& fields, double fps) const;
     /// Written last after a frame: marks it complete.
     void writeRunState(const RunState& state) const;
     /// Removes every file a simulation writes here (frames, tracks, stats,

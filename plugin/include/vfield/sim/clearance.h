@@ -15,8 +15,11 @@
 namespace vfield {
 
 struct ClearanceStats {
-    double minimum = 0.0;      ///< smallest signed distance, world units
-    double percentile1 = 0.0;  ///< 1st percentile of the signed distances
+    double minimum = 0.0;     ///< smallest signed distance, world units
+    double percentile1 = 0.0; ///< 1st percentile of the signed distances
+    /// Mean signed distance, each read at most as far as the level sets reach
+    /// (beyond it, as that reach: a lower bound of the mean)
+    double mean = 0.0;
     uint64_t penetrations = 0; ///< points at negative distance
     uint64_t samples = 0;      ///< points measured (0: nothing to measure)
 };

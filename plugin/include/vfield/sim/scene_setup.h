@@ -7,7 +7,7 @@
 
 #include <vfield/core/json.h>
 #include <vfield/core/transform.h>
-#include <vfield/field/octree_field.h>
+#include <vfield/field/repulsion_field.h>
 #include <vfield/mesh/mesh_source.h>
 
 #include <optional>
@@ -32,7 +32,7 @@ struct ObjectSpec {
     bool bank = false;
     double maxRollRate = 90.0;  ///< dynamic only: degrees/s (0..1e5); per frame at most this / fps
     double maxPitchRate = 60.0; ///< dynamic only: degrees/s (0..1e5)
-    std::optional<OctreeFieldOptions> repulsion = OctreeFieldOptions{}; ///< none: no field around it
+    std::optional<RepulsionOptions> repulsion = RepulsionOptions{}; ///< none: no field around it
     /// For renderers: the diffuse reflectance of a mesh that is not ground
     /// (terrain and heightmaps are shaded as such), linear RGB (0..1).
     Vec3d color{0.62, 0.62, 0.66};

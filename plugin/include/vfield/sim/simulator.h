@@ -23,7 +23,7 @@
 /// surface's own: pushed aside and carried along, never inside. StepStats
 /// counts these contacts, so where the field falls short shows.
 
-#include <vfield/field/octree_field.h>
+#include <vfield/field/repulsion_field.h>
 #include <vfield/mesh/mesh_distance.h>
 #include <vfield/sim/particles.h>
 #include <vfield/sim/scene_setup.h>
@@ -40,13 +40,12 @@ namespace vfield {
 /// One scene object as the simulator holds it.
 struct SimObject {
     const ObjectSpec* spec = nullptr;
-    TriangleMesh mesh;                  ///< object space
-    std::shared_ptr<OctreeField> field; ///< null without repulsion
-    openvdb::Vec3SGrid::Ptr forceGrid;  ///< the field voxelized in object space; null without repulsion
-    openvdb::Int32Grid::Ptr levelGrid;  ///< the leaves' levels on the same voxels: the cell size at a point
-    std::vector<Vec3d> centroids;       ///< object space, for the hit test (dynamic objects)
-    double radius = 0.0;                ///< farthest vertex from the pivot, object units: how far rotation moves it
-    MeshLoadReport loadReport;          ///< what loading a mesh file found and repaired
+    TriangleMesh mesh;                           ///< object space
+    std::shared_ptr<const RepulsionField> field; ///< null without repulsion
+    double fieldSeconds = 0.0;                   ///< how long building and voxelizing the field took, wall clock
+    std::vector<Vec3d> centroids;                ///< object space, for the hit test (dynamic objects)
+    double radius = 0.0;                         ///< farthest vertex from the pivot, object units: how far rotation moves it
+    MeshLoadReport loadReport;                   ///< what loading a mesh file found and repaired
     /// Dynamic objects with a closed mesh: its signed distance (voxel 1/128 of
     /// its largest extent, out to its field's margin but at most half that
     /// extent, the whole inside), where particles make contact and where
@@ -114,7 +113,8 @@ public:
     void restoreState(const std::string& bytes);
 
 private:
-    Vec3d repulsion(const Vec3d& worldPoint, double time, openvdb::Vec3SGrid::ConstAccessor* accessors) const;
+    /// The acceleration of every object's field at a point of this mass.
+    Vec3d repulsion(const Vec3d& worldPoint, double time, double mass, openvdb::Vec3SGrid::ConstAccessor* accessors) const;
     /// What bounds a particle's substep at p: the size of the smallest field
     /// cell there (world units; 1 where no field reaches), and the speed of
     /// the fastest field moving over p this frame (a dynamic object's
@@ -131,6 +131,8 @@ private:
     void advanceParticles(double t0, double t1);
     bool resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t, double dt,
                          std::vector<MeshDistance::Accessor>& accessors) const;
+    /// Whether p lies in the band of a potential flow (RepulsionMethod::PotentialFlow).
+    bool inFlow(const Vec3d& p, openvdb::Int32Grid::ConstAccessor* levels) const;
     /// Whether x lies inside a dynamic object's closed mesh as placed at time t.
     bool endsInside(const Vec3d& x, double t, std::vector<MeshDistance::Accessor>& accessors) const;
     Transform poseAt(std::size_t object, double time) const;
@@ -142,6 +144,7 @@ private:
     std::vector<DynamicState> mStates, mStatesAtFrameStart;
     std::vector<std::size_t> mRepulsive; ///< objects with a field
     std::vector<std::size_t> mContact;   ///< dynamic objects with a distance (SimObject::distance)
+    std::vector<std::size_t> mFlow;      ///< indices into mRepulsive of the potential flows
     /// The uniform fields acting on each object and each cloud (UniformFieldSpec::affects).
     std::vector<std::vector<std::size_t>> mObjectFields, mCloudFields;
     ParticleSet mParticles;

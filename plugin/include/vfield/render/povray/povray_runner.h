@@ -14,13 +14,14 @@ namespace vfield {
 /// Renders folder/sceneFile to folder/imageFile (8-bit sRGB PNG) at the
 /// image's size. samplesPerPixel 1 traces one ray through each pixel's centre;
 /// more supersample every pixel on an n x n grid, n = round(sqrt(samples)), at
-/// most 9. threads: POV-Ray's render threads (>= 1); its media sampling
+/// most 9 (PovrayQuality::Final), or only pixels that differ from their
+/// neighbours, 2 x 2 (Preview). threads: POV-Ray's render threads (>= 1); its media sampling
 /// differs between thread counts, and 1 makes its images reproducible.
 /// POV-Ray's output goes to folder/<imageFile>.log. Throws Error when povray
 /// is not on PATH (naming the Debian package) and when it fails (with the last
 /// lines of its log and the log's path).
 void runPovray(const std::string& folder, const std::string& sceneFile, const std::string& imageFile, const ImageSettings& image,
-               int threads);
+               PovrayQuality quality, int threads);
 
 /// Whether a povray program is on PATH.
 bool povrayAvailable();

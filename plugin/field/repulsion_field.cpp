@@ -1,0 +1,264 @@
+#include <vfield/field/repulsion_field.h>
+
+#include <vfield/core/error.h>
+#include <vfield/core/json.h>
+#include <vfield/core/options.h>
+#include <vfield/field/field_grid.h>
+
+#include <openvdb/tools/FastSweeping.h>
+#include <openvdb/tools/GridOperators.h>
+#include <openvdb/tools/Interpolation.h>
+#include <openvdb/tools/MeshToVolume.h>
+#include <openvdb/tools/PotentialFlow.h>
+#include <openvdb/tree/LeafManager.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace vfield {
+
+const char* repulsionMethodName(RepulsionMethod method)
+{
+    switch (method) {
+    case RepulsionMethod::Octree:
+        return "octree";
+    case RepulsionMethod::Distance:
+        return "distance";
+    case RepulsionMethod::PotentialFlow:
+        return "potentialFlow";
+    }
+    return "octree";
+}
+
+void RepulsionOptions::validate() const
+{
+    field.validate();
+    if (voxelSize) {
+        requireNumber("voxelSize", *voxelSize, 1e-9, 1e12);
+        require(method != RepulsionMethod::Octree, "voxelSize",
+                "applies to the distance and potentialFlow methods (the octree's cells follow its triangles)");
+    }
+}
+
+RepulsionOptions repulsionOptionsFromJson(const JsonValue& json)
+{
+    return readOptions<RepulsionOptions>(json, [&](JsonObject& o, RepulsionOptions& options) {
+        const std::string method = o.choice("method", "octree", {"octree", "distance", "potentialFlow"});
+        options.method = method == "distance"        ? RepulsionMethod::Distance
+                         : method == "potentialFlow" ? RepulsionMethod::PotentialFlow
+                                                     : RepulsionMethod::Octree;
+        if (const auto voxel = o.find("voxelSize")) options.voxelSize = voxel->asNumber();
+        readOctreeFieldKeys(o, options.field);
+    });
+}
+
+double RepulsionField::cellSize(int level) const { return mSide * std::ldexp(1.0, 1 - level); }
+
+Vec3d RepulsionField::hitTest(const std::vector<Vec3d>& points) const
+{
+    openvdb::Vec3SGrid::ConstAccessor accessor = mForce->getConstAccessor();
+    Vec3d directions(0.0);
+    double strongest = 0.0;
+    for (const Vec3d& p : points) {
+        if (!mBounds.isInside(p)) continue;
+        openvdb::Vec3s f;
+        openvdb::tools::BoxSampler::sample(accessor, mForce->transform().worldToIndex(p), f);
+        const double magnitude = f.length();
+        if (!(magnitude > 0.0)) continue;
+        directions += Vec3d(f) / magnitude;
+        strongest = std::max(strongest, magnitude);
+    }
+    const double length = directions.length();
+    return length < 1e-9 ? Vec3d(0.0) : directions * (strongest / length);
+}
+
+std::size_t RepulsionField::memoryBytes() const { return std::size_t(mForce->memUsage() + mLevel->memUsage()); }
+
+namespace {
+
+class OctreeRepulsion final : public RepulsionField {
+public:
+    OctreeRepulsion(const TriangleMesh& mesh, const OctreeFieldOptions& options) : mOctree(OctreeField::build(mesh, options))
+    {
+        mMethod = RepulsionMethod::Octree;
+        mBounds = mOctree.bounds();
+        mSide = mOctree.rootSide();
+        mDepth = mOctree.depth();
+        VoxelizeOptions voxelize;
+        voxelize.withSurface = false;
+        const FieldGrids grids = voxelizeField(mOctree, voxelize);
+        mForce = grids.force;
+        mLevel = grids.level;
+    }
+    double cellSize(int level) const override { return mOctree.cellSize(level); }
+    Vec3d hitTest(const std::vector<Vec3d>& points) const override { return mOctree.hitTest(points); }
+    std::size_t memoryBytes() const override { return mOctree.memoryBytes() + RepulsionField::memoryBytes(); }
+
+private:
+    OctreeField mOctree;
+};
+
+/// The grid-based methods: distance and potentialFlow share the root cube,
+/// the voxel and the level a distance maps to.
+class GridRepulsion final : public RepulsionField {
+public:
+    GridRepulsion(const TriangleMesh& mesh, const RepulsionOptions& options, const Vec3d& wind);
+
+private:
+    /// The level of an octree cell about as large as the distance d (at most d, at least a voxel).
+    int levelAt(double d) const
+    {
+        const double levels = std::ceil(std::log2(mSide / std::max(d, mVoxel)) - 1e-9);
+        return std::clamp(1 + int(levels), 1, mDepth);
+    }
+    /// Every voxel of the root cube, active.
+    openvdb::MaskGrid::Ptr rootMask() const;
+    openvdb::FloatGrid::Ptr signedDistance(const TriangleMesh& mesh, double exteriorVoxels, double interiorVoxels) const;
+    void buildDistance(const TriangleMesh& mesh);
+    void buildPotentialFlow(const TriangleMesh& mesh, const Vec3d& wind);
+
+    RepulsionOptions mOptions;
+    double mMargin = 0.0, mVoxel = 0.0;
+    openvdb::math::Transform::Ptr mTransform;
+};
+
+GridRepulsion::GridRepulsion(const TriangleMesh& mesh, const RepulsionOptions& options, const Vec3d& wind) : mOptions(options)
+{
+    mMethod = options.method;
+    BBoxd box;
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+        if (mesh.areaVector(i).lengthSqr() > 0.0)
+            for (int corner = 0; corner < 3; ++corner) box.expand(Vec3d(mesh.points[mesh.triangles[i][corner]]));
+    if (box.empty()) throw ValueError("the mesh has no triangle of non-zero area to build a field around");
+    const double extent = box.extents()[box.maxExtent()];
+    mMargin = options.field.margin.value_or(0.1 * extent);
+    mSide = extent + 2.0 * mMargin;
+    if (!(mSide > 0.0)) throw ValueError("the mesh and margin have no extent to build a field in");
+    mBounds = BBoxd(box.getCenter() - Vec3d(0.5 * mSide), box.getCenter() + Vec3d(0.5 * mSide));
+    mVoxel = options.voxelSize.value_or(mSide * std::ldexp(1.0, 1 - options.field.maxLevel));
+    if (mSide / mVoxel > double(1 << 16))
+        throw ValueError("voxel size " + std::to_string(mVoxel) + " gives " + std::to_string(mSide / mVoxel) +
+                         " voxels across the field (at most 65536)");
+    mDepth = 1 + int(std::ceil(std::log2(mSide / mVoxel) - 1e-9));
+    mTransform = openvdb::math::Transform::createLinearTransform(mVoxel);
+    if (mMethod == RepulsionMethod::Distance) buildDistance(mesh);
+    else buildPotentialFlow(mesh, wind);
+    mForce->setName("force");
+    mForce->setVectorType(openvdb::VEC_CONTRAVARIANT_RELATIVE);
+    mLevel->setName("level");
+}
+
+openvdb::MaskGrid::Ptr GridRepulsion::rootMask() const
+{
+    openvdb::MaskGrid::Ptr root = openvdb::MaskGrid::create(false);
+    root->setTransform(mTransform->copy());
+    root->tree().fill(openvdb::CoordBBox(openvdb::Coord::floor(mTransform->worldToIndex(mBounds.min())),
+                                         openvdb::Coord::ceil(mTransform->worldToIndex(mBounds.max()))),
+                      true, true);
+    return root;
+}
+
+openvdb::FloatGrid::Ptr GridRepulsion::signedDistance(const TriangleMesh& mesh, double exteriorVoxels,
+                                                      double interiorVoxels) const
+{
+    const std::vector<openvdb::Vec3I> triangles(mesh.triangles.begin(), mesh.triangles.end());
+    openvdb::FloatGrid::Ptr sdf = openvdb::tools::meshToSignedDistanceField<openvdb::FloatGrid>(
+        *mTransform, mesh.points, triangles, {}, float(exteriorVoxels), float(interiorVoxels));
+    sdf->setGridClass(openvdb::GRID_LEVEL_SET);
+    return sdf;
+}
+
+void GridRepulsion::buildDistance(const TriangleMesh& mesh)
+{
+    // Exact near the surface, extended through the whole root by fast
+    // sweeping, so that the field fills its root as the octree's does.
+    const openvdb::FloatGrid::Ptr sdf = openvdb::tools::maskSdf(*signedDistance(mesh, 3.0, 3.0), *rootMask());
+    const openvdb::Vec3SGrid::Ptr gradient = openvdb::tools::gradient(*sdf);
+    const double sign = mOptions.field.flipNormals ? -1.0 : 1.0;
+    const double strength = mOptions.field.strength, boost = mOptions.field.surfaceBoost;
+
+    mForce = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
+    mForce->setTree(std::make_shared<openvdb::Vec3STree>(sdf->tree(), openvdb::Vec3s(0.0f), openvdb::TopologyCopy()));
+    mLevel = openvdb::Int32Grid::create(0);
+    mLevel->setTree(std::make_shared<openvdb::Int32Tree>(sdf->tree(), 0, openvdb::TopologyCopy()));
+    mForce->tree().voxelizeActiveTiles(); // every voxel its own value; a leaf each for the pass below
+    mLevel->tree().voxelizeActiveTiles();
+    mForce->setTransform(mTransform->copy());
+    mLevel->setTransform(mTransform->copy());
+
+    // Each voxel from its own distance and gradient: independent of the thread count.
+    openvdb::tree::LeafManager<openvdb::Vec3STree> leaves(mForce->tree());
+    leaves.foreach ([&](openvdb::Vec3STree::LeafNodeType& leaf, std::size_t) {
+        openvdb::FloatGrid::ConstAccessor distances = sdf->getConstAccessor();
+        openvdb::Vec3SGrid::ConstAccessor gradients = gradient->getConstAccessor();
+        // The same topology: the level leaf exists, and only this task writes it.
+        openvdb::Int32Tree::LeafNodeType& levels = *mLevel->tree().probeLeaf(leaf.origin());
+        for (auto it = leaf.beginValueOn(); it; ++it) {
+            const openvdb::Coord ijk = it.getCoord();
+            const double d = sign * distances.getValue(ijk);
+            Vec3d direction = sign * Vec3d(gradients.getValue(ijk));
+            if (!mBounds.isInside(mTransform->indexToWorld(ijk)) || !(direction.lengthSqr() > 1e-12)) {
+                it.setValue(openvdb::Vec3s(0.0f));
+                it.setValueOff();
+                levels.setValueOff(it.pos(), 0);
+                continue;
+            }
+            direction.normalize();
+            const double magnitude = strength * (1.0 + std::log2(mSide / std::max(d, mVoxel))) * (d < mVoxel ? boost : 1.0);
+            it.setValue(openvdb::Vec3s(direction * magnitude));
+            levels.setValueOnly(it.pos(), levelAt(d));
+        }
+    });
+    openvdb::tools::pruneInactive(mForce->tree());
+    openvdb::tools::pruneInactive(mLevel->tree());
+}
+
+void GridRepulsion::buildPotentialFlow(const TriangleMesh& mesh, const Vec3d& wind)
+{
+    // A thin level set: OpenVDB takes its exterior band as the solid's
+    // boundary, where the flow must not pass through.
+    const openvdb::FloatGrid::Ptr collider = signedDistance(mesh, 3.0, 3.0);
+    // The whole root outside the mesh, as the octree's field fills it: the wind
+    // held undisturbed only at the root's faces turns smoothly, where a band as
+    // thin as the margin turned it at the band's edge at once.
+    const openvdb::MaskGrid::Ptr domain = rootMask();
+    domain->tree().topologyDifference(openvdb::tools::interiorMask(*collider)->tree());
+    mLevel = openvdb::Int32Grid::create(0);
+    mLevel->setTree(std::make_shared<openvdb::Int32Tree>(domain->tree(), 0, openvdb::TopologyCopy()));
+    mLevel->tree().voxelizeActiveTiles();
+    for (auto it = mLevel->tree().beginValueOn(); it; ++it) it.setValue(mDepth);
+    mLevel->setTransform(mTransform->copy());
+    mForce = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
+    mForce->setTransform(mTransform->copy());
+    if (!(wind.lengthSqr() > 0.0)) return; // nothing flows: nothing to deflect
+
+    const openvdb::Vec3SGrid::Ptr neumann = openvdb::tools::createPotentialFlowNeumannVelocities(
+        *collider, *domain, openvdb::Vec3SGrid::ConstPtr(), openvdb::Vec3s(wind));
+    openvdb::math::pcg::State state = openvdb::math::pcg::terminationDefaults<float>();
+    state.iterations = 4000;
+    state.relativeError = 1e-6;
+    state.absoluteError = 1e-6 * wind.length() * mVoxel;
+    const openvdb::FloatGrid::Ptr potential = openvdb::tools::computeScalarPotential(*domain, *neumann, state);
+    if (!state.success)
+        throw ValueError("the potential flow around the mesh did not converge (" + std::to_string(state.iterations) +
+                         " iterations, error " + std::to_string(state.absoluteError) + ")");
+    // The potential's gradient is the flow a solid moving with the wind would
+    // push; in the solid's frame the wind's deviation is its opposite, which
+    // cancels the wind's component into the surface there.
+    mForce = openvdb::tools::computePotentialFlow(*potential, *neumann);
+    for (auto it = mForce->tree().beginValueOn(); it; ++it) it.setValue(-*it);
+    mForce->setTransform(mTransform->copy());
+}
+
+} // namespace
+
+std::shared_ptr<const RepulsionField> RepulsionField::build(const TriangleMesh& mesh, const RepulsionOptions& options,
+                                                            const Vec3d& wind)
+{
+    options.validate();
+    openvdb::initialize(); // OpenVDB's solvers log through it
+    if (options.method == RepulsionMethod::Octree) return std::make_shared<OctreeRepulsion>(mesh, options.field);
+    return std::make_shared<GridRepulsion>(mesh, options, wind);
+}
+
+} // namespace vfield

@@ -1,0 +1,117 @@
+#pragma once
+/// @file repulsion_field.h
+/// TriangleMesh (object space) -> RepulsionField: an object's repulsive field
+/// as the simulator reads it, made by one of three methods, so that the
+/// paper's field can be measured against what one would try instead:
+///
+/// - octree (the default): the paper's octree field (octree_field.h),
+///   voxelized at its finest leaf (field_grid.h).
+/// - distance: from the mesh's signed distance d (OpenVDB
+///   meshToSignedDistanceField near the surface, extended through the root
+///   cube by fast sweeping). Direction: the distance's gradient (away from
+///   the surface). Magnitude: strength x (1 + log2(side / max(d, voxel))), the
+///   level an octree cell as large as the distance would have, so the two
+///   methods push alike at a given distance; times surfaceBoost within a voxel
+///   of the surface and inside (three voxels deep). Like the octree's, it
+///   fills the root cube.
+/// - potentialFlow: the clouds' wind (the uniform fields acting on every cloud
+///   everywhere, gravity included) flowing around the mesh instead of into it
+///   (OpenVDB tools::PotentialFlow: Laplace's equation for the potential in
+///   the root cube outside the mesh, no flow through its surface, the wind
+///   undisturbed at the cube's faces). The field is the flow's deviation
+///   from the wind, an acceleration added to the wind, not divided by mass;
+///   the simulator moves particles in the band with the flow, at the terminal
+///   velocity (acceleration / drag). Acts on clouds only; static objects only.
+///
+/// Every method gives a force grid over the field's bounds (object space:
+/// the cube of side = largest extent + 2 margin around the mesh), a level
+/// grid on the same voxels that says how fine the field's structure is there
+/// (cellSize(level), what a particle's substep must not outrun), and the
+/// paper's hit test for dynamic objects. Distance and potentialFlow default
+/// to a voxel as fine as the octree's finest possible cell,
+/// side / 2^(maxLevel - 1).
+
+#include <vfield/core/math.h>
+#include <vfield/field/octree_field.h>
+#include <vfield/mesh/triangle_mesh.h>
+
+#include <openvdb/openvdb.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace vfield {
+
+enum class RepulsionMethod { Octree, Distance, PotentialFlow };
+
+/// The method's name as scene files spell it: octree, distance, potentialFlow.
+const char* repulsionMethodName(RepulsionMethod method);
+
+struct RepulsionOptions {
+    RepulsionMethod method = RepulsionMethod::Octree;
+    /// margin, strength, surfaceBoost and flipNormals apply to every method
+    /// (potentialFlow: margin only, through the root's size); maxPerLeaf, maxLevel
+    /// and splitRule shape the octree, and maxLevel sets the others' default voxel.
+    OctreeFieldOptions field;
+    /// distance and potentialFlow: voxel edge, object units (1e-9..1e12).
+    /// Unset: side / 2^(maxLevel - 1).
+    std::optional<double> voxelSize;
+
+    /// Throws OptionError naming the first option out of range.
+    void validate() const;
+};
+
+class RepulsionField {
+public:
+    /// Builds the field around the mesh. wind (object space, acceleration
+    /// units) is what potentialFlow deflects; the other methods ignore it.
+    /// Throws ValueError for invalid options, a mesh without triangles of
+    /// non-zero area, or a potential flow whose solve does not converge.
+    static std::shared_ptr<const RepulsionField> build(const TriangleMesh& mesh, const RepulsionOptions& options,
+                                                       const Vec3d& wind = Vec3d(0.0));
+    virtual ~RepulsionField() = default;
+
+    RepulsionMethod method() const { return mMethod; }
+    /// Forces (force()) are divided by the mass they push; a flow's deviation
+    /// (potentialFlow) is an acceleration, the same for every mass.
+    bool isFlow() const { return mMethod == RepulsionMethod::PotentialFlow; }
+    const BBoxd& bounds() const { return mBounds; } ///< where it acts, object space
+    double rootSide() const { return mSide; }
+    int depth() const { return mDepth; } ///< the finest level present
+    /// Edge of the field's structure at a level read from level(), object units.
+    virtual double cellSize(int level) const;
+    double finestCellSize() const { return cellSize(mDepth); }
+
+    /// Object space, acceleration units x mass (isFlow(): acceleration); zero outside bounds().
+    const openvdb::Vec3SGrid::Ptr& force() const { return mForce; }
+    /// Levels on the force's voxels (1..depth(); 0 where the field is zero).
+    const openvdb::Int32Grid::Ptr& level() const { return mLevel; }
+
+    /// The paper's hit test of another object's points (object space of this
+    /// field): the normalized average of the unit directions at the points
+    /// inside bounds(), with the largest magnitude among them; zero without
+    /// a hit or when the directions cancel.
+    virtual Vec3d hitTest(const std::vector<Vec3d>& points) const;
+
+    /// Bytes held by the field's grids and structures.
+    virtual std::size_t memoryBytes() const;
+
+protected:
+    RepulsionField() = default;
+
+    RepulsionMethod mMethod = RepulsionMethod::Octree;
+    BBoxd mBounds;
+    double mSide = 0.0;
+    int mDepth = 1;
+    openvdb::Vec3SGrid::Ptr mForce;
+    openvdb::Int32Grid::Ptr mLevel;
+};
+
+class JsonValue;
+/// The "repulsion" object of a scene file: method, voxelSize and the
+/// octree's keys (readOctreeFieldKeys), all optional.
+RepulsionOptions repulsionOptionsFromJson(const JsonValue& json);
+
+} // namespace vfield

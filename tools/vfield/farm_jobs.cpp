@@ -1,0 +1,286 @@
+#include "farm_jobs.h"
+
+#include <vfield/core/atomic_file.h>
+#include <vfield/core/error.h>
+
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace vfield::cli {
+
+namespace {
+
+/// A word for bash, single-quoted.
+std::string quote(const std::string& word)
+{
+    std::string out = "'";
+    for (const char c : word) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return out + "'";
+}
+
+std::string farmDir(const std::string& dir) { return dir + "/farm"; }
+
+std::string frameName(const std::string& dir, int frame)
+{
+    char name[32];
+    std::snprintf(name, sizeof name, "/frame.%04d.png", frame);
+    return dir + name;
+}
+
+/// Splits "v1,v2,[1,2]" at the commas outside brackets and quotes.
+std::vector<std::string> splitValues(const std::string& list)
+{
+    std::vector<std::string> values(1);
+    int depth = 0;
+    bool inString = false;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+        const char c = list[i];
+        if (inString) {
+            if (c == '\\' && i + 1 < list.size()) values.back() += list[i++];
+            else if (c == '"') inString = false;
+        } else if (c == '"') inString = true;
+        else if (c == '[' || c == '{') ++depth;
+        else if (c == ']' || c == '}') --depth;
+        else if (c == ',' && depth == 0) {
+            values.emplace_back();
+            continue;
+        }
+        values.back() += c;
+    }
+    return values;
+}
+
+std::string header(const FarmPlan& plan, const std::string& name, const std::string& log)
+{
+    std::string out = "#!/usr/bin/env bash\n";
+    out += "#SBATCH --job-name=" + name + "\n";
+    out += "#SBATCH --output=" + log + "\n";
+    out += "#SBATCH --cpus-per-task=" + std::to_string(plan.cpusPerTask) + "\n";
+    out += "#SBATCH --time=" + plan.time + "\n";
+    if (!plan.partition.empty()) out += "#SBATCH --partition=" + plan.partition + "\n";
+    if (!plan.account.empty()) out += "#SBATCH --account=" + plan.account + "\n";
+    return out;
+}
+
+/// The scene's arguments for one variant: the user's --set, then the wedge's.
+std::string sceneArguments(const FarmPlan& plan, const FarmVariant& variant)
+{
+    std::string out = quote(plan.scene);
+    for (const std::string& o : plan.overrides) out += " --set " + quote(o);
+    for (const auto& [pointer, value] : variant.wedge) out += " --set " + quote(pointer + "=" + value);
+    return out;
+}
+
+std::string run(const std::string& command)
+{
+    std::FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe) throw Error("cannot run: " + command);
+    std::string out;
+    std::array<char, 256> buffer;
+    while (std::fgets(buffer.data(), int(buffer.size()), pipe)) out += buffer.data();
+    const int status = pclose(pipe);
+    if (status != 0) throw Error("`" + command + "` failed (status " + std::to_string(status) + "): " + out);
+    return out;
+}
+
+/// sbatch --parsable prints "ID" or "ID;cluster".
+std::string submit(const std::string& script, const std::string& dependency)
+{
+    std::string command = "sbatch --parsable";
+    if (!dependency.empty()) command += " --dependency=afterok:" + dependency;
+    std::string id = run(command + " " + quote(script));
+    id = id.substr(0, id.find_first_of(";\n"));
+    if (id.empty()) throw Error("sbatch printed no job id for " + script);
+    return id;
+}
+
+} // namespace
+
+std::vector<FarmVariant> wedgeVariants(const std::string& out, const std::vector<std::string>& wedges)
+{
+    std::vector<FarmVariant> variants(1);
+    variants.front().dir = out;
+    if (wedges.empty()) return variants;
+    for (const std::string& wedge : wedges) {
+        const std::size_t equals = wedge.find('=');
+        if (equals == std::string::npos || equals == 0 || equals + 1 == wedge.size())
+            throw ValueError("--wedge " + wedge + ": expected POINTER=VALUE,VALUE,...");
+        const std::string pointer = wedge.substr(0, equals);
+        std::vector<FarmVariant> next;
+        for (const FarmVariant& v : variants)
+            for (const std::string& value : splitValues(wedge.substr(equals + 1))) {
+                FarmVariant combined = v;
+                combined.wedge.emplace_back(pointer, value);
+                next.push_back(combined);
+            }
+        variants = next;
+    }
+    for (std::size_t i = 0; i < variants.size(); ++i) {
+        char name[32];
+        std::snprintf(name, sizeof name, "wedge-%02zu", i + 1);
+        variants[i].name = name;
+        variants[i].dir = out + "/" + name;
+    }
+    return variants;
+}
+
+std::vector<std::string> writeFarmScripts(const FarmPlan& plan)
+{
+    std::vector<std::string> scripts;
+    nlohmann::json index = nlohmann::json::array();
+    for (const FarmVariant& v : plan.variants) {
+        const std::string dir = farmDir(v.dir);
+        fs::create_directories(dir);
+        const std::string tag = v.name.empty() ? "" : "-" + v.name;
+        const std::string scene = sceneArguments(plan, v);
+        const std::string range = std::to_string(plan.first) + "-" + std::to_string(plan.last);
+
+        // Sequential in time; a requeued job resumes after its last complete frame.
+        const std::string simulate = header(plan, "vfield-simulate" + tag, dir + "/simulate-%j.log") +
+                                     "#SBATCH --requeue\nset -euo pipefail\n" + quote(plan.vfield) + " simulate " + scene +
+                                     " -o " + quote(v.dir + "/sim") + " --frames " + range +
+                                     " --threads \"${SLURM_CPUS_PER_TASK:-" + std::to_string(plan.cpusPerTask) + "}\"\n";
+        // A chunk of frames per array task; finished frames are skipped.
+        std::string renderArgs;
+        for (const std::string& a : plan.renderArgs) renderArgs += " " + quote(a);
+        const std::string render =
+            header(plan, "vfield-render" + tag, dir + "/render-%A_%a.log") + "#SBATCH --array=0-" +
+            std::to_string(plan.chunks() - 1) + "\nset -euo pipefail\nfirst=$((" + std::to_string(plan.first) +
+            " + ${SLURM_ARRAY_TASK_ID:?} * " + std::to_string(plan.chunk) + "))\nlast=$((first + " +
+            std::to_string(plan.chunk - 1) + "))\n(( last > " + std::to_string(plan.last) + " )) && last=" +
+            std::to_string(plan.last) + "\n" + quote(plan.vfield) + " render " + scene + " --sim " + quote(v.dir + "/sim") +
+            " -o " + quote(v.dir) + " --frames \"$first-$last\" --threads \"${SLURM_CPUS_PER_TASK:-" +
+            std::to_string(plan.cpusPerTask) + "}\"" + renderArgs + "\n";
+        const std::string finish = header(plan, "vfield-finish" + tag, dir + "/finish-%j.log") + "set -euo pipefail\n" +
+                                   quote(plan.toolsDir + "/make-sheet") + " " + quote(v.dir) + " " +
+                                   quote(v.dir + "/contact.jpg") + " " + quote(v.dir + "/preview.mp4") + "\n";
+        for (const auto& [name, text] : {std::pair{"simulate", simulate}, {"render", render}, {"finish", finish}}) {
+            const std::string path = dir + "/" + name + ".sh";
+            writeTextAtomically(path, text);
+            fs::permissions(path, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
+            scripts.push_back(path);
+        }
+        nlohmann::json overrides = nlohmann::json::object();
+        for (const auto& [pointer, value] : v.wedge) overrides[pointer] = value;
+        index.push_back({{"name", v.name}, {"folder", v.dir}, {"overrides", overrides}});
+    }
+    if (plan.isWedge()) {
+        // The variants' last frames side by side, each labelled with its values.
+        std::string tiles;
+        for (const FarmVariant& v : plan.variants) {
+            std::string label = v.name;
+            for (const auto& [pointer, value] : v.wedge) label += " " + pointer + "=" + value;
+            tiles += " " + quote(frameName(v.dir, plan.last)) + " " + quote(label);
+        }
+        const std::string sheet = header(plan, "vfield-wedges", farmDir(plan.out) + "/wedges-%j.log") +
+                                  "set -euo pipefail\n" + quote(plan.toolsDir + "/make-sheet") + " --row " +
+                                  quote(plan.out + "/wedges.jpg") + tiles + "\n";
+        fs::create_directories(farmDir(plan.out));
+        writeTextAtomically(farmDir(plan.out) + "/wedges.sh", sheet);
+        scripts.push_back(farmDir(plan.out) + "/wedges.sh");
+        writeTextAtomically(plan.out + "/wedges.json", index.dump(2) + "\n");
+    }
+    nlohmann::json status = {{"first", plan.first}, {"last", plan.last}, {"variants", index}};
+    writeTextAtomically(farmDir(plan.out) + "/plan.json", status.dump(2) + "\n");
+    return scripts;
+}
+
+std::vector<std::string> submitToSlurm(const FarmPlan& plan)
+{
+    std::vector<std::string> lines;
+    std::string finishes;
+    nlohmann::json jobs = nlohmann::json::array();
+    for (const FarmVariant& v : plan.variants) {
+        const std::string dir = farmDir(v.dir);
+        const std::string simulate = submit(dir + "/simulate.sh", "");
+        const std::string render = submit(dir + "/render.sh", simulate);
+        const std::string finish = submit(dir + "/finish.sh", render);
+        finishes += (finishes.empty() ? "" : ":") + finish;
+        jobs.push_back({{"folder", v.dir}, {"simulate", simulate}, {"render", render}, {"finish", finish}});
+        lines.push_back((v.name.empty() ? plan.out : v.dir) + ": simulate " + simulate + ", render " + render + " (" +
+                        std::to_string(plan.chunks()) + " tasks), finish " + finish);
+    }
+    if (plan.isWedge()) {
+        const std::string sheet = submit(farmDir(plan.out) + "/wedges.sh", finishes);
+        jobs.push_back({{"folder", plan.out}, {"wedges", sheet}});
+        lines.push_back(plan.out + ": wedge sheet " + sheet);
+    }
+    writeTextAtomically(farmDir(plan.out) + "/jobs.json", jobs.dump(2) + "\n");
+    return lines;
+}
+
+void runLocally(const FarmPlan& plan)
+{
+    const auto runScript = [](const std::string& script, const std::string& environment) {
+        const int status = std::system((environment + " bash " + quote(script)).c_str());
+        if (status != 0) throw Error(script + " failed (status " + std::to_string(status) + ")");
+    };
+    const std::string cpus = "SLURM_CPUS_PER_TASK=" + std::to_string(plan.cpusPerTask);
+    for (const FarmVariant& v : plan.variants) {
+        const std::string dir = farmDir(v.dir);
+        runScript(dir + "/simulate.sh", cpus);
+        for (int task = 0; task < plan.chunks(); ++task)
+            runScript(dir + "/render.sh", cpus + " SLURM_ARRAY_TASK_ID=" + std::to_string(task));
+        runScript(dir + "/finish.sh", cpus);
+    }
+    if (plan.isWedge()) runScript(farmDir(plan.out) + "/wedges.sh", cpus);
+}
+
+std::vector<std::string> farmStatus(const std::string& out)
+{
+    const std::string planPath = farmDir(out) + "/plan.json";
+    std::ifstream planFile(planPath);
+    if (!planFile) throw FileError(planPath, "no farm plan here (vfield farm SCENE -o " + out + " first)");
+    nlohmann::json plan;
+    try {
+        plan = nlohmann::json::parse(planFile);
+    } catch (const nlohmann::json::exception& e) {
+        throw FileError(planPath, std::string("unreadable: ") + e.what());
+    }
+    const int first = plan.at("first").get<int>(), last = plan.at("last").get<int>();
+    std::vector<std::string> lines;
+    int missing = 0;
+    for (const nlohmann::json& v : plan.at("variants")) {
+        const std::string dir = v.at("folder").get<std::string>();
+        int simulated = 0, rendered = 0;
+        for (int frame = first; frame <= last; ++frame) {
+            char density[40];
+            std::snprintf(density, sizeof density, "/sim/density.%04d.vdb", frame);
+            simulated += fs::exists(dir + density);
+            rendered += fs::exists(frameName(dir, frame));
+        }
+        missing += (last - first + 1) - rendered;
+        lines.push_back(dir + ": " + std::to_string(simulated) + " of " + std::to_string(last - first + 1) +
+                        " frames simulated, " + std::to_string(rendered) + " rendered" +
+                        (fs::exists(dir + "/contact.jpg") ? ", contact sheet and movie made" : ""));
+    }
+    std::ifstream jobsFile(farmDir(out) + "/jobs.json");
+    if (jobsFile) {
+        std::string ids;
+        for (const nlohmann::json& job : nlohmann::json::parse(jobsFile))
+            for (const auto& [key, value] : job.items())
+                if (key != "folder") ids += (ids.empty() ? "" : ",") + value.get<std::string>();
+        std::string queued;
+        try {
+            queued = run("squeue -h -j " + quote(ids) + " -o '%i %j %T' 2>/dev/null");
+        } catch (const Error&) {
+            queued = ""; // squeue refuses ids it no longer knows: all finished
+        }
+        std::istringstream in(queued);
+        int count = 0;
+        for (std::string line; std::getline(in, line); ++count) lines.push_back("  job " + line);
+        lines.push_back(count == 0 ? "no job queued or running" : std::to_string(count) + " jobs queued or running");
+    }
+    lines.push_back(missing == 0 ? "done: every frame rendered" : std::to_string(missing) + " frames still to render");
+    return lines;
+}
+
+} // namespace vfield::cli

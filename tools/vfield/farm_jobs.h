@@ -1,0 +1,55 @@
+#pragma once
+// The jobs of `vfield farm`: a scene's simulation, its rendering in chunks of
+// frames and its contact sheet and movie, as batch scripts that Slurm runs
+// (sbatch, with dependencies) or that run one after another on this machine.
+// Each script is plain bash with #SBATCH lines, so the same files serve both.
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace vfield::cli {
+
+/// One variant of a wedge (or the only one): its folder and its overrides.
+struct FarmVariant {
+    std::string name; ///< "wedge-01", or empty without wedges
+    std::string dir;  ///< absolute: OUT, or OUT/wedge-NN
+    std::vector<std::pair<std::string, std::string>> wedge; ///< pointer, JSON value
+};
+
+struct FarmPlan {
+    std::string vfield;                 ///< absolute path of this vfield command
+    std::string toolsDir;               ///< the project's tools/ (make-sheet)
+    std::string scene, out;             ///< absolute
+    std::vector<std::string> overrides; ///< the user's --set, "POINTER=JSON"
+    std::vector<std::string> renderArgs; ///< --backend and the like, passed to vfield render
+    int first = 1, last = 1, chunk = 10;
+    int cpusPerTask = 2;
+    std::string partition, account, time = "04:00:00";
+    std::vector<FarmVariant> variants;
+
+    int chunks() const { return (last - first) / chunk + 1; }
+    bool isWedge() const { return !variants.front().name.empty(); }
+};
+
+/// The variants of the wedges ("POINTER=v1,v2,..." each; values are JSON,
+/// split at commas outside brackets and quotes), every combination, in order.
+std::vector<FarmVariant> wedgeVariants(const std::string& out, const std::vector<std::string>& wedges);
+
+/// Writes OUT[/wedge-NN]/farm/{simulate,render,finish}.sh (and for wedges
+/// OUT/farm/wedges.sh, OUT/wedges.json) and OUT/farm/plan.txt. Returns the
+/// scripts in the order they run.
+std::vector<std::string> writeFarmScripts(const FarmPlan& plan);
+
+/// Submits the scripts with sbatch, each variant's chain by dependencies, and
+/// records the job ids in OUT/farm/jobs.txt. Returns one line per job.
+std::vector<std::string> submitToSlurm(const FarmPlan& plan);
+
+/// Runs the scripts here, one after another (the render script once per chunk).
+void runLocally(const FarmPlan& plan);
+
+/// What OUT holds: per variant, frames simulated and rendered of the range,
+/// and the Slurm jobs still queued or running.
+std::vector<std::string> farmStatus(const std::string& out);
+
+} // namespace vfield::cli
