@@ -2,10 +2,13 @@
 /// @file simulator.h
 /// SimulationSetup -> particles and dynamic objects moving frame by frame
 /// through the sum of all fields (world space), collision-free because the
-/// objects' repulsive octree fields push back ever harder near their surfaces.
+/// objects' repulsive octree fields push back ever harder near their surfaces
+/// (or the alternatives of repulsion_field.h, for comparison).
 ///
 /// Motion: a = sum of uniform fields (accelerations) + sum of repulsive forces
-/// / mass - drag x v, integrated by semi-implicit Euler. Each particle takes
+/// / mass - drag x v, integrated by semi-implicit Euler; inside a potential
+/// flow (RepulsionMethod::PotentialFlow) a particle moves with the flow, at
+/// the terminal velocity a / drag. Each particle takes
 /// its own substeps, sized so that it moves at most cfl x the size of the
 /// field cells around it per substep, relative to every field (a dynamic
 /// object sweeping over a resting particle counts): fast particles cannot
