@@ -125,8 +125,9 @@ TEST_CASE("cli: every subcommand has help", "[cli]")
     std::istringstream lines(top.out.substr(top.out.find("Subcommands:")));
     for (std::string line; std::getline(lines, line);)
         if (line.rfind("  ", 0) == 0) commands.push_back(line.substr(2, line.find(' ', 2) - 2));
-    CHECK(commands.size() == 12);
-    for (const char* name : {"compare", "metrics", "farm"}) CHECK(std::find(commands.begin(), commands.end(), name) != commands.end());
+    CHECK(commands.size() == 13);
+    for (const char* name : {"compare", "metrics", "farm", "export-scene"})
+        CHECK(std::find(commands.begin(), commands.end(), name) != commands.end());
     for (const std::string& command : commands) {
         const Run help = vfieldCli(command + " --help", dir);
         INFO(command);

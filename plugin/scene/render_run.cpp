@@ -24,13 +24,13 @@ namespace fs = std::filesystem;
 
 namespace vfield {
 
-namespace {
-
-SurfaceMaterial materialOf(const ObjectSpec& object)
+SurfaceMaterial surfaceMaterialOf(const ObjectSpec& object)
 {
     const bool isGround = object.mesh.kind == MeshSource::Kind::Terrain || object.mesh.kind == MeshSource::Kind::Heightmap;
     return isGround ? SurfaceMaterial::terrain() : SurfaceMaterial::painted(object.color);
 }
+
+namespace {
 
 /// What a frame's images depend on besides its simulation: every render
 /// setting, every surface's material, the back-end and the formats. A frame
@@ -105,7 +105,7 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
         } else {
             surfaces.addStatic(int(i), meshes.back(), object.transform);
         }
-        frame.materials[int(i)] = materialOf(object);
+        frame.materials[int(i)] = surfaceMaterialOf(object);
     }
     const Tracks tracks = anyDynamic ? simulation.readTracks() : Tracks();
     BBoxd terrainHeights(Vec3d(0.0), Vec3d(1.0));
@@ -195,7 +195,7 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
                 std::vector<PovrayMesh> povrayMeshes;
                 for (std::size_t i = 0; i < meshes.size(); ++i) {
                     const ObjectSpec& object = setup.objects[i];
-                    povrayMeshes.push_back({int(i), &meshes[i], materialOf(object),
+                    povrayMeshes.push_back({int(i), &meshes[i], surfaceMaterialOf(object),
                                             object.isDynamic ? std::nullopt : std::optional<Transform>(object.transform)});
                 }
                 PovrayBackendOptions povrayOptions;

@@ -30,8 +30,8 @@ Runner registerFarm(CLI::App& app, const GlobalOptions& global)
         std::string statusOf;
     };
     auto o = std::make_shared<Options>();
-    CLI::App* command = app.add_subcommand(
-        "farm", "Simulate and render a scene as jobs on a Slurm cluster (or here), with wedges of its values");
+    CLI::App* command =
+        app.add_subcommand("farm", "Simulate and render a scene as jobs on a Slurm cluster (or here), with wedges of its values");
     addSceneOptions(*command, o->scene, false);
     command->add_option("-o,--output", o->output, "Output folder: frames, sim/, farm/ (scripts and logs)");
     command->add_option("--engine", o->engine, "slurm (sbatch) or local (the same scripts, one after another)")

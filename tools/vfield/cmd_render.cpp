@@ -6,7 +6,9 @@
 #include "scene_cli_options.h"
 
 #include <vfield/core/error.h>
+#include <vfield/scene/host_scene.h>
 #include <vfield/scene/render_run.h>
+#include <vfield/scene/sim_folder.h>
 #include <vfield/scene/simulation_run.h>
 
 #include <algorithm>
@@ -159,6 +161,7 @@ Runner registerRun(CLI::App& app, const GlobalOptions& global)
             };
             simulateScene(scene, o->output + "/sim", simulate);
         }
+        writeHostScene(scene, SimFolder(o->output + "/sim"));
         renderWithProgress(scene, o->output + "/sim", o->output, options, global);
     };
 }

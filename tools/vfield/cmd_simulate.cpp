@@ -1,11 +1,14 @@
 // vfield simulate SCENE -o DIR: the scene's animation as OpenVDB volumes and
-// particles per frame, with tracks and statistics.
+// particles per frame, with tracks and statistics, and what a host needs to
+// rebuild the scene (host/).
 
 #include "cli_values.h"
 #include "command.h"
 #include "progress.h"
 #include "scene_cli_options.h"
 
+#include <vfield/scene/host_scene.h>
+#include <vfield/scene/sim_folder.h>
 #include <vfield/scene/simulation_run.h>
 
 #include <cstdio>
@@ -60,6 +63,7 @@ Runner registerSimulate(CLI::App& app, const GlobalOptions& global)
                             "(frame " + std::to_string(p.frame) + ", " + std::to_string(p.alive) + " particles)");
         };
         const SimulateSummary summary = simulateScene(scene, o->output, options);
+        writeHostScene(scene, SimFolder(o->output));
         for (const std::string& warning : summary.warnings) log(global, "warning: " + warning);
         if (summary.restartedStale)
             log(global, o->output + " held a simulation of an earlier edit of the scene or its meshes: simulated afresh");

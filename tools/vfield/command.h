@@ -25,6 +25,7 @@ Runner registerFieldSlice(CLI::App& app, const GlobalOptions& global);
 Runner registerInfo(CLI::App& app, const GlobalOptions& global);
 Runner registerSimulate(CLI::App& app, const GlobalOptions& global);
 Runner registerExportMesh(CLI::App& app, const GlobalOptions& global);
+Runner registerExportScene(CLI::App& app, const GlobalOptions& global);
 Runner registerRender(CLI::App& app, const GlobalOptions& global);
 Runner registerRun(CLI::App& app, const GlobalOptions& global);
 Runner registerCompare(CLI::App& app, const GlobalOptions& global);

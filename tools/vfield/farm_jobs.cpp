@@ -151,14 +151,14 @@ std::vector<std::string> writeFarmScripts(const FarmPlan& plan)
         // A chunk of frames per array task; finished frames are skipped.
         std::string renderArgs;
         for (const std::string& a : plan.renderArgs) renderArgs += " " + quote(a);
-        const std::string render =
-            header(plan, "vfield-render" + tag, dir + "/render-%A_%a.log") + "#SBATCH --array=0-" +
-            std::to_string(plan.chunks() - 1) + "\nset -euo pipefail\nfirst=$((" + std::to_string(plan.first) +
-            " + ${SLURM_ARRAY_TASK_ID:?} * " + std::to_string(plan.chunk) + "))\nlast=$((first + " +
-            std::to_string(plan.chunk - 1) + "))\n(( last > " + std::to_string(plan.last) + " )) && last=" +
-            std::to_string(plan.last) + "\n" + quote(plan.vfield) + " render " + scene + " --sim " + quote(v.dir + "/sim") +
-            " -o " + quote(v.dir) + " --frames \"$first-$last\" --threads \"${SLURM_CPUS_PER_TASK:-" +
-            std::to_string(plan.cpusPerTask) + "}\"" + renderArgs + "\n";
+        const std::string render = header(plan, "vfield-render" + tag, dir + "/render-%A_%a.log") + "#SBATCH --array=0-" +
+                                   std::to_string(plan.chunks() - 1) + "\nset -euo pipefail\nfirst=$((" +
+                                   std::to_string(plan.first) + " + ${SLURM_ARRAY_TASK_ID:?} * " + std::to_string(plan.chunk) +
+                                   "))\nlast=$((first + " + std::to_string(plan.chunk - 1) + "))\n(( last > " +
+                                   std::to_string(plan.last) + " )) && last=" + std::to_string(plan.last) + "\n" +
+                                   quote(plan.vfield) + " render " + scene + " --sim " + quote(v.dir + "/sim") + " -o " +
+                                   quote(v.dir) + " --frames \"$first-$last\" --threads \"${SLURM_CPUS_PER_TASK:-" +
+                                   std::to_string(plan.cpusPerTask) + "}\"" + renderArgs + "\n";
         const std::string finish = header(plan, "vfield-finish" + tag, dir + "/finish-%j.log") + "set -euo pipefail\n" +
                                    quote(plan.toolsDir + "/make-sheet") + " " + quote(v.dir) + " " +
                                    quote(v.dir + "/contact.jpg") + " " + quote(v.dir + "/preview.mp4") + "\n";
@@ -180,9 +180,9 @@ std::vector<std::string> writeFarmScripts(const FarmPlan& plan)
             for (const auto& [pointer, value] : v.wedge) label += " " + pointer + "=" + value;
             tiles += " " + quote(frameName(v.dir, plan.last)) + " " + quote(label);
         }
-        const std::string sheet = header(plan, "vfield-wedges", farmDir(plan.out) + "/wedges-%j.log") +
-                                  "set -euo pipefail\n" + quote(plan.toolsDir + "/make-sheet") + " --row " +
-                                  quote(plan.out + "/wedges.jpg") + tiles + "\n";
+        const std::string sheet = header(plan, "vfield-wedges", farmDir(plan.out) + "/wedges-%j.log") + "set -euo pipefail\n" +
+                                  quote(plan.toolsDir + "/make-sheet") + " --row " + quote(plan.out + "/wedges.jpg") + tiles +
+                                  "\n";
         fs::create_directories(farmDir(plan.out));
         writeTextAtomically(farmDir(plan.out) + "/wedges.sh", sheet);
         scripts.push_back(farmDir(plan.out) + "/wedges.sh");

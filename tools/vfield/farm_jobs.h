@@ -12,16 +12,16 @@ namespace vfield::cli {
 
 /// One variant of a wedge (or the only one): its folder and its overrides.
 struct FarmVariant {
-    std::string name; ///< "wedge-01", or empty without wedges
-    std::string dir;  ///< absolute: OUT, or OUT/wedge-NN
+    std::string name;                                       ///< "wedge-01", or empty without wedges
+    std::string dir;                                        ///< absolute: OUT, or OUT/wedge-NN
     std::vector<std::pair<std::string, std::string>> wedge; ///< pointer, JSON value
 };
 
 struct FarmPlan {
-    std::string vfield;                 ///< absolute path of this vfield command
-    std::string toolsDir;               ///< the project's tools/ (make-sheet)
-    std::string scene, out;             ///< absolute
-    std::vector<std::string> overrides; ///< the user's --set, "POINTER=JSON"
+    std::string vfield;                  ///< absolute path of this vfield command
+    std::string toolsDir;                ///< the project's tools/ (make-sheet)
+    std::string scene, out;              ///< absolute
+    std::vector<std::string> overrides;  ///< the user's --set, "POINTER=JSON"
     std::vector<std::string> renderArgs; ///< --backend and the like, passed to vfield render
     int first = 1, last = 1, chunk = 10;
     int cpusPerTask = 2;

@@ -53,6 +53,7 @@ int main(int argc, char** argv)
         {"info", registerInfo(app, global)},
         {"simulate", registerSimulate(app, global)},
         {"export-mesh", registerExportMesh(app, global)},
+        {"export-scene", registerExportScene(app, global)},
         {"render", registerRender(app, global)},
         {"run", registerRun(app, global)},
         {"compare", registerCompare(app, global)},

@@ -16,6 +16,7 @@
 ///   both:   OUT/embree/frame.####.*, OUT/povray/frame.####.png and
 ///           OUT/frame.####.png, the two side by side (Embree on the left)
 
+#include <vfield/render/materials.h>
 #include <vfield/scene/scene.h>
 
 #include <functional>
@@ -45,6 +46,10 @@ struct RenderRunSummary {
     double embreeSecondsPerFrame = 0.0; ///< mean time in vfield's renderer (0 if unused)
     double povraySecondsPerFrame = 0.0; ///< mean time exporting and running POV-Ray (0 if unused)
 };
+
+/// How a scene object's surface is coloured: terrain and heightmap meshes as
+/// terrain, everything else painted in the object's colour.
+SurfaceMaterial surfaceMaterialOf(const ObjectSpec& object);
 
 RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDir, const std::string& outputDir,
                              const RenderRunOptions& options = {});
