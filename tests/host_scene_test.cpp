@@ -25,7 +25,8 @@ Scene blockAndBox(const std::string& camera)
                    "transform": {"translate": [5, -20, 0], "scale": 3}},
                   {"name": "box", "mesh": {"box": {}}, "motion": "dynamic", "repulsion": false, "velocity": [10, 0, 0]}],
       "clouds": [{"name": "puff", "count": 300, "center": [0, 10, 0], "radius": 3}],
-      "camera": )" + camera + R"(,
+      "camera": )" + camera +
+                          R"(,
       "render": {"resolution": [64, 36], "extinction": 0.7, "albedo": 0.8},
       "simulation": {"domain": {"min": [-100, -100, -100], "max": [100, 100, 100]}}})",
                       "block_and_box.json");

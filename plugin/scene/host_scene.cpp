@@ -42,8 +42,8 @@ nlohmann::json cameraPose(int frame, const Camera& camera)
 /// One pose for a fixed camera; one per frame for a camera that follows an
 /// object, placed as the renderer places it (in front of any surface between
 /// it and the object).
-nlohmann::json cameraPoses(const Scene& scene, const std::vector<TriangleMesh>& meshes, const SimFolder& simulation,
-                           int first, int last)
+nlohmann::json cameraPoses(const Scene& scene, const std::vector<TriangleMesh>& meshes, const SimFolder& simulation, int first,
+                           int last)
 {
     const RenderSettings& settings = scene.render;
     const int width = settings.image.width, height = settings.image.height;
