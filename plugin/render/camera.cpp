@@ -35,16 +35,46 @@ Vec3d Camera::direction(double x, double y) const
     return (mForward + u * mRight + v * mUp).unitSafe();
 }
 
-Camera followCamera(const CameraSettings& settings, const Transform& object, const FirstSurfaceQuery& firstSurface, int width,
-                    int height)
+namespace {
+
+/// The unit horizontal direction of v, or fallback where v is vertical.
+Vec3d horizontal(Vec3d v, const Vec3d& fallback)
 {
-    Vec3d forward = object.rotateToWorld(Vec3d(1, 0, 0));
-    forward[1] = 0.0;
-    forward = forward.length() > 1e-9 ? forward.unitSafe() : Vec3d(1, 0, 0);
-    const Vec3d up(0, 1, 0), right = forward.cross(up);
+    v[1] = 0.0;
+    return v.length() > 1e-9 ? v.unitSafe() : fallback;
+}
+
+} // namespace
+
+Camera followCamera(const CameraSettings& settings, const std::vector<Transform>& path, const FirstSurfaceQuery& firstSurface,
+                    int width, int height)
+{
+    if (path.empty()) throw ValueError("a following camera needs the object's pose");
+    const Transform& object = path.back();
     const Vec3d& o = settings.followOffset;
-    const Vec3d target = object.translation;
-    Vec3d position = target + forward * o[0] + up * o[1] + right * o[2];
+    const Vec3d target = object.translation, up(0, 1, 0);
+    Vec3d forward = horizontal(object.rotateToWorld(Vec3d(1, 0, 0)), Vec3d(1, 0, 0));
+    Vec3d anchor = target + forward * o[0];
+    if (o[0] < 0) {
+        // Walk back along the path until -o[0] units of it are behind.
+        double remaining = -o[0];
+        std::size_t i = path.size() - 1;
+        for (; i > 0; --i) {
+            const Vec3d step = path[i].translation - path[i - 1].translation;
+            const double length = step.length();
+            if (length > 0 && length >= remaining) {
+                anchor = path[i].translation - step * (remaining / length);
+                forward = horizontal(step, forward);
+                break;
+            }
+            remaining -= length;
+        }
+        if (i == 0) {
+            forward = horizontal(path.front().rotateToWorld(Vec3d(1, 0, 0)), forward);
+            anchor = path.front().translation - forward * remaining;
+        }
+    }
+    Vec3d position = anchor + up * o[1] + forward.cross(up) * o[2];
     const Vec3d toCamera = position - target;
     const double distance = toCamera.length();
     // Start past the object's own surfaces; stop short of where terrain begins.

@@ -72,8 +72,8 @@ nlohmann::json cameraPoses(const Scene& scene, const std::vector<TriangleMesh>& 
         for (std::size_t i = 0; i < objects.size(); ++i)
             if (objects[i].isDynamic) surfaces.setPose(int(i), tracks.pose(objects[i].name, f));
         surfaces.commit();
-        const Transform pose = tracks.pose(objects[std::size_t(followed)].name, f);
-        poses.push_back(cameraPose(f, followCamera(settings.camera, pose, firstSurface, width, height)));
+        const std::vector<Transform> path = tracks.path(objects[std::size_t(followed)].name, f);
+        poses.push_back(cameraPose(f, followCamera(settings.camera, path, firstSurface, width, height)));
     }
     return poses;
 }

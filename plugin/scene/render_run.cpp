@@ -165,7 +165,7 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
         const auto start = std::chrono::steady_clock::now();
         const openvdb::FloatGrid::Ptr density = simulation.readDensity(f);
 
-        std::optional<Transform> followed;
+        std::vector<Transform> followedPath;
         std::map<int, Transform> poses;
         for (std::size_t i = 0; i < setup.objects.size(); ++i) {
             const ObjectSpec& object = setup.objects[i];
@@ -173,11 +173,12 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
             const Transform pose = tracks.pose(object.name, f);
             surfaces.setPose(int(i), pose);
             poses[int(i)] = pose;
-            if (settings.camera.followObject && *settings.camera.followObject == object.name) followed = pose;
+            if (settings.camera.followObject && *settings.camera.followObject == object.name)
+                followedPath = tracks.path(object.name, f);
         }
         surfaces.commit();
-        frame.camera = followed ? followCamera(settings.camera, *followed, firstSurface, width, height)
-                                : Camera::fromSettings(settings.camera, width, height);
+        frame.camera = !followedPath.empty() ? followCamera(settings.camera, followedPath, firstSurface, width, height)
+                                             : Camera::fromSettings(settings.camera, width, height);
         frame.frame = f;
 
         const CloudLighting lighting(density, settings.medium, settings.sun.direction, sunBlocked);

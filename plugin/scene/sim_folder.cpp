@@ -8,9 +8,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -331,6 +333,20 @@ Transform Tracks::pose(const std::string& object, int frame) const
         for (const TrackEntry& e : o->second)
             if (e.frame == frame) return e.pose;
     throw FileError(mPath, "no pose of \"" + object + "\" at frame " + std::to_string(frame));
+}
+
+std::vector<Transform> Tracks::path(const std::string& object, int frame) const
+{
+    std::vector<TrackEntry> entries;
+    if (const auto o = mObjects.find(object); o != mObjects.end())
+        std::copy_if(o->second.begin(), o->second.end(), std::back_inserter(entries),
+                     [frame](const TrackEntry& e) { return e.frame <= frame; });
+    std::sort(entries.begin(), entries.end(), [](const TrackEntry& a, const TrackEntry& b) { return a.frame < b.frame; });
+    if (entries.empty() || entries.back().frame != frame)
+        throw FileError(mPath, "no pose of \"" + object + "\" at frame " + std::to_string(frame));
+    std::vector<Transform> poses;
+    for (const TrackEntry& e : entries) poses.push_back(e.pose);
+    return poses;
 }
 
 std::string Tracks::toJsonText(double fps) const

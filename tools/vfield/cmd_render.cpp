@@ -48,8 +48,9 @@ void addRenderOptions(CLI::App& command, RenderCliOptions& o)
                     "vfield's renderer: fast (ray march, light grids, multiple scattering by octaves) or reference "
                     "(an unbiased path tracer, slow and noisy: give it many --spp) [default: the scene's render.integrator]")
         ->check(CLI::IsMember({"fast", "reference"}));
-    command.add_option("--format", o.formats, "png, exr or png,exr")
-        ->check(CLI::IsMember({"png", "exr", "png,exr", "exr,png"}))
+    command.add_option("--format", o.formats, "Image files: png (8-bit sRGB), exr (half-float, with depth) or both")
+        ->type_name("png|exr|png,exr")
+        ->check(CLI::IsMember({"png", "exr", "png,exr", "exr,png"}).description(""))
         ->capture_default_str();
     command.add_option("--threads", o.threads, "Worker threads [default: all cores]")->check(CLI::PositiveNumber);
     command.add_flag("--force", o.force, "Render frames whose images exist");

@@ -9,6 +9,7 @@
 
 #include <functional>
 #include <optional>
+#include <vector>
 
 namespace vfield {
 
@@ -42,11 +43,18 @@ private:
 /// [tMin, tMax], or none: how a camera learns what stands in its way.
 using FirstSurfaceQuery = std::function<std::optional<double>(const Vec3d& origin, const Vec3d& dir, double tMin, double tMax)>;
 
-/// The camera that follows an object (settings.followObject): behind and above
-/// it by settings.followOffset in its heading frame (x forward, y up, z right),
-/// looking at it, and pulled in front of any surface between the two so that
-/// the object stays in view.
-Camera followCamera(const CameraSettings& settings, const Transform& object, const FirstSurfaceQuery& firstSurface, int width,
-                    int height);
+/// The camera that follows an object (settings.followObject), given the
+/// object's path: its poses from the first frame through this one (the last is
+/// this frame's). With followOffset behind the object (x < 0) the camera rides
+/// that path, -x units of path length back from the object (the path continued
+/// straight behind its first pose where it is shorter), raised by y and moved z
+/// to the right of the path's heading there. A camera on the path just flown
+/// stays inside the canyon the object flew through and moves as smoothly as the
+/// object does (closer in a hairpin, where the path folds), where one fixed in
+/// the object's heading frame swings into the walls at every bend. With x >= 0
+/// it sits at the offset in the heading frame (x forward, y up, z right). Either way it looks at the object, pulled in front of
+/// any surface between the two so that the object stays in view.
+Camera followCamera(const CameraSettings& settings, const std::vector<Transform>& path, const FirstSurfaceQuery& firstSurface,
+                    int width, int height);
 
 } // namespace vfield

@@ -23,10 +23,10 @@ struct CameraSettings {
     Vec3d lookAt{0.0, 0.0, 0.0};      ///< world point at the image centre
     Vec3d up{0.0, 1.0, 0.0};          ///< non-zero
     double fovDegrees = 45.0;         ///< vertical field of view (1e-3..179)
-    /// Follow a dynamic object: the camera sits at the object's position plus
-    /// offset, given in the object's heading frame (x forward, y up, z right:
-    /// -x is behind it), and looks at the object; it moves in front of any
-    /// surface between itself and the object.
+    /// Follow a dynamic object, looking at it from offset (world units; x
+    /// forward, y up, z right): -x along the path it flew and y above, or, for
+    /// x >= 0, in its heading frame; in front of any surface between the two
+    /// (followCamera() in camera.h).
     std::optional<std::string> followObject;
     Vec3d followOffset{-30.0, 10.0, 0.0};
 

@@ -38,6 +38,9 @@ public:
     /// The object's pose at frame. Throws FileError (naming the file it was
     /// read from) when the track holds no such entry.
     Transform pose(const std::string& object, int frame) const;
+    /// The object's poses from the first frame of its track through frame, in
+    /// frame order: the path a following camera rides. Throws as pose() does.
+    std::vector<Transform> path(const std::string& object, int frame) const;
 
     /// tracks.json's text; fps is recorded beside the tracks.
     std::string toJsonText(double fps) const;
