@@ -15,7 +15,7 @@ TriangleMesh smallTerrain()
 {
     TerrainOptions options;
     options.cellsX = options.cellsZ = 48;
-    options.carves.push_back({{{-100, 0}, {100, 10}}, 25.0, 15.0, 1.0});
+    options.carves.push_back({{{-100, 0}, {100, 10}}, 25.0, 15.0, 1.0, 0.0, std::nullopt});
     return makeTerrain(options);
 }
 

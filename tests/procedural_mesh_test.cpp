@@ -47,13 +47,53 @@ TEST_CASE("procedural terrain: a carve lowers its path by its depth and leaves t
     TerrainOptions flat;
     flat.amplitude = 0.0;
     TerrainOptions carved = flat;
-    carved.carves.push_back({{{-100, 0}, {0, 40}, {100, 0}}, 20.0, 12.0, 3.0});
+    carved.carves.push_back({{{-100, 0}, {0, 40}, {100, 0}}, 20.0, 12.0, 3.0, 0.0, std::nullopt});
     CHECK(terrainHeight(carved, -100, 0) == Approx(-12.0));
     CHECK(terrainHeight(carved, 0, 40) == Approx(-12.0));
     CHECK(terrainHeight(carved, 0, -60) == Approx(0.0));
     // A negative depth raises a ridge.
     carved.carves[0].depth = -8.0;
     CHECK(terrainHeight(carved, 100, 0) == Approx(8.0));
+}
+
+TEST_CASE("procedural terrain: a carve with a floor height levels rugged ground to it and keeps the relief beyond", "[mesh]")
+{
+    TerrainOptions mountains;
+    mountains.style = TerrainStyle::Ridged;
+    mountains.amplitude = 40.0;
+    TerrainOptions carved = mountains;
+    TerrainCarve canyon{{{-100, 0}, {0, 40}, {100, 0}}, 20.0, 0.0, 3.0, 0.0, -15.0};
+    carved.carves.push_back(canyon);
+    // On the path the floor is level whatever the mountains' height there.
+    CHECK(terrainHeight(mountains, -100, 0) != Approx(terrainHeight(mountains, 0, 40)));
+    for (const Vec2d& onPath : canyon.path) CHECK(terrainHeight(carved, onPath[0], onPath[1]) == Approx(-15.0));
+    // Beyond halfWidth the ridged relief is untouched.
+    for (double z : {-60.0, -45.0, 90.0}) CHECK(terrainHeight(carved, 7.0, z) == Approx(terrainHeight(mountains, 7.0, z)));
+}
+
+TEST_CASE("procedural terrain: rough walls wander in and out along the carve, the floor stays", "[mesh]")
+{
+    TerrainOptions flat;
+    flat.amplitude = 0.0;
+    flat.carves.push_back({{{-200, 0}, {200, 0}}, 20.0, 10.0, 4.0, 5.0, std::nullopt});
+    // Where the wall meets the plain: the first z from the path that is not cut.
+    const auto rim = [&](double x) {
+        double z = 0.0;
+        while (terrainHeight(flat, x, z) < -1e-9) z += 0.05;
+        return z;
+    };
+    double nearest = 1e9, farthest = 0.0;
+    for (double x = -150.0; x <= 150.0; x += 5.0) {
+        nearest = std::min(nearest, rim(x));
+        farthest = std::max(farthest, rim(x));
+        CHECK(terrainHeight(flat, x, 0.0) == Approx(-10.0).margin(0.05));
+    }
+    INFO("rims between " << nearest << " and " << farthest);
+    CHECK(farthest - nearest > 3.0); // straight walls would all end at 20
+    CHECK(nearest > 20.0 - 2 * 5.0);
+    CHECK(farthest < 20.0 + 2 * 5.0);
+    flat.carves[0].wallRoughness = 0.0;
+    CHECK(rim(33.0) == Approx(20.0).margin(0.06));
 }
 
 TEST_CASE("procedural terrain: options out of range are refused", "[mesh]")
@@ -65,8 +105,11 @@ TEST_CASE("procedural terrain: options out of range are refused", "[mesh]")
     options.cellsX = options.cellsZ = 100000;
     CHECK_THROWS_WITH(makeTerrain(options), Catch::Contains("at most"));
     options = {};
-    options.carves.push_back({{{0, 0}}, 10, 10, 1});
+    options.carves.push_back({{{0, 0}}, 10, 10, 1, 0, std::nullopt});
     CHECK_THROWS_WITH(makeTerrain(options), Catch::Contains("two points"));
+    options = {};
+    options.carves.push_back({{{0, 0}, {1, 0}}, 10, 10, 1, 12, std::nullopt});
+    CHECK_THROWS_WITH(makeTerrain(options), Catch::Contains("wallRoughness"));
 }
 
 TEST_CASE("procedural sphere and box: closed and outward with the right size", "[mesh]")

@@ -280,3 +280,31 @@ TEST_CASE("render: EXR frames composite over a plate with OIIO's over", "[render
     CHECK(skyPixels > 100);
     CHECK(cloudPixels > 100);
 }
+
+TEST_CASE("render: terrain noise gains detail only where a pixel resolves it, fading in without a jump", "[render]")
+{
+    const SurfaceMaterial rock = SurfaceMaterial::terrain();
+    const Vec3d p(12.3, 4.5, -6.7);
+    const SurfaceNoise coarse = surfaceNoise(rock, p); // no footprint given: nothing finer than 0.75 units
+    CHECK(coarse.detail == 0.0);
+    // The first detail octave (period 0.375) starts where a pixel is half of it wide.
+    const SurfaceNoise atLimit = surfaceNoise(rock, p, 0.1875);
+    CHECK(atLimit.detail == 0.0);
+    CHECK(atLimit.bumpGradient == coarse.bumpGradient);
+    const SurfaceNoise justBelow = surfaceNoise(rock, p, 0.1875 * 0.999);
+    CHECK(std::abs(justBelow.detail) < 1e-3);
+    CHECK((justBelow.bumpGradient - coarse.bumpGradient).length() < 1e-3);
+    // Beside the camera (a pixel of 1 mm) every octave is drawn and changes both.
+    double detailSeen = 0.0, tiltSeen = 0.0;
+    for (int i = 0; i < 16; ++i) {
+        const Vec3d q = p + Vec3d(0.31 * i, 0.17 * i, -0.05 * i);
+        const SurfaceNoise fine = surfaceNoise(rock, q, 0.001);
+        detailSeen = std::max(detailSeen, std::abs(fine.detail));
+        tiltSeen = std::max(tiltSeen, (fine.bumpGradient - surfaceNoise(rock, q).bumpGradient).length());
+        CHECK(std::abs(fine.detail) <= 1.0);
+    }
+    CHECK(detailSeen > 0.1);
+    CHECK(tiltSeen > 0.1);
+    // Painted surfaces stay plain however close.
+    CHECK(surfaceNoise(SurfaceMaterial::painted(Vec3d(1.0)), p, 0.001).detail == 0.0);
+}

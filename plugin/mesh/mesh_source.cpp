@@ -69,7 +69,9 @@ TerrainOptions terrainOptionsFromJson(const JsonValue& json)
             for (const JsonValue& point : c.at("path").asArray()) carve.path.push_back(point.asVec2());
             carve.halfWidth = c.number("halfWidth", carve.halfWidth);
             carve.depth = c.number("depth", carve.depth);
+            if (const auto floor = c.find("floorHeight")) carve.floorHeight = floor->asNumber();
             carve.wallSharpness = c.number("wallSharpness", carve.wallSharpness);
+            carve.wallRoughness = c.number("wallRoughness", carve.wallRoughness);
             c.finish();
             t.carves.push_back(carve);
         }

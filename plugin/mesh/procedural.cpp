@@ -65,7 +65,9 @@ void TerrainCarve::validate() const
     require(path.size() >= 2, "path", "expected at least two points [x, z]");
     requireNumber("halfWidth", halfWidth, 1e-9, 1e12);
     requireNumber("depth", depth, -1e12, 1e12);
+    if (floorHeight) requireNumber("floorHeight", *floorHeight, -1e12, 1e12);
     requireNumber("wallSharpness", wallSharpness, 1.0, 100.0);
+    requireNumber("wallRoughness", wallRoughness, 0.0, halfWidth);
 }
 
 void TerrainOptions::validate() const
@@ -118,7 +120,14 @@ public:
         double height = mOptions.amplitude * unit;
         for (std::size_t i = 0; i < mPaths.size(); ++i) {
             const TerrainCarve& carve = mOptions.carves[i];
-            height -= carve.depth * carveProfile(distanceToPolyline(mPaths[i], Vec2d(x, z)), carve);
+            double distance = distanceToPolyline(mPaths[i], Vec2d(x, z));
+            if (carve.wallRoughness > 0.0) {
+                // Offset from the terrain's own noise so the walls do not echo its crests.
+                const float u = float(x / carve.halfWidth) + 31.7f, v = float(z / carve.halfWidth) - 12.9f;
+                distance += carve.wallRoughness * double(fbm(mNoise, u, v, {3, 2.0, 0.5}));
+            }
+            const double profile = carveProfile(distance, carve);
+            height = carve.floorHeight ? height + (*carve.floorHeight - height) * profile : height - carve.depth * profile;
         }
         return height;
     }

@@ -32,9 +32,14 @@ float noiseAt(const Vec3d& p, double frequency, int octaves)
 /// The bump noise's frequency (1 / world units).
 constexpr double kBumpFrequency = 1.0 / 2.5;
 
+/// The period of the coarsest detail octave (world units): the next below
+/// the fine colour noise's finest, 0.75.
+constexpr double kDetailPeriod = 0.375;
+constexpr int kMaxDetailOctaves = 6;
+
 } // namespace
 
-SurfaceNoise surfaceNoise(const SurfaceMaterial& material, const Vec3d& position)
+SurfaceNoise surfaceNoise(const SurfaceMaterial& material, const Vec3d& position, double pixelFootprint)
 {
     SurfaceNoise noise;
     if (material.kind == SurfaceMaterial::Kind::Painted) return noise;
@@ -43,6 +48,21 @@ SurfaceNoise surfaceNoise(const SurfaceMaterial& material, const Vec3d& position
     noise.broad = noiseAt(position, 1.0 / 40.0, 3);
     noise.fine = noiseAt(position, 1.0 / 3.0, 3);
     noise.stone = noiseAt(position + Vec3d(0, 3.1 * position[1], 0), 1.0 / 6.0, 2);
+    // Detail octaves while a pixel holds two samples of their period, each
+    // fading in over the octave above that limit so nothing pops as the
+    // camera moves. Colour amplitudes halve per octave; each octave tilts the
+    // normal alike (heights halve as the period does, so slopes stay): rock
+    // grain at every scale the pixels resolve.
+    double period = kDetailPeriod, amplitude = 0.5;
+    for (int octave = 0; octave < kMaxDetailOctaves && period > 2.0 * pixelFootprint; ++octave) {
+        const double fade = std::min(1.0, period / (2.0 * pixelFootprint) - 1.0);
+        // Shifted per octave so the octaves do not line up at the origin.
+        const NoiseSample s = terrainNoise().sample(Vec3f(position / period + Vec3d(17.1 * (octave + 1))));
+        noise.detail += amplitude * fade * double(s.value);
+        noise.bumpGradient += Vec3d(s.gradient) * (0.5 * fade);
+        period *= 0.5;
+        amplitude *= 0.5;
+    }
     return noise;
 }
 
@@ -60,7 +80,7 @@ Vec3d surfaceAlbedo(const SurfaceMaterial& material, const Vec3d& position, cons
     Vec3d colour = lerp(grass, dryGrass, smoothstep(0.25, 0.75, height + 0.25 * broad));
     colour *= 0.8 + 0.4 * (0.5 + 0.5 * fine);
     const Vec3d stone = lerp(darkRock, rock, 0.5 + 0.5 * noise.stone);
-    colour = lerp(colour, stone, smoothstep(0.72, 0.55, slope));
+    colour = lerp(colour, stone, smoothstep(0.72, 0.55, slope)) * (1.0 + 0.4 * noise.detail);
     return lerp(colour, snow, smoothstep(0.85, 0.95, height) * smoothstep(0.5, 0.75, slope));
 }
 

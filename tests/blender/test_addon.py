@@ -163,6 +163,9 @@ def main():
     args = arguments()
     shutil.rmtree(args.work, ignore_errors=True)
     os.makedirs(args.work)
+    # --factory-startup's cube, lamp and camera are no part of the scene.
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
     install(args.zip, args.vfield)
     scene_path = small_scene(args.scene, args.work)
     sim = os.path.join(args.work, "sim")

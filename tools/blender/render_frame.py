@@ -23,6 +23,10 @@ def main():
     parser.add_argument("--resolution", type=int, nargs=2)
     args = parser.parse_args(sys.argv[sys.argv.index("--") + 1 :])
 
+    # --factory-startup's cube, lamp and camera are no part of the scene (the
+    # lamp lit a patch of the canyon's wall).
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
     import_simulation(bpy.context, args.sim)
     scene = bpy.context.scene
     scene.frame_set(args.frame)

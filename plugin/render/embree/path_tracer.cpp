@@ -136,7 +136,12 @@ RenderImage renderReference(const FrameToRender& f)
                     dir = aroundAxis(dir, cosTheta, random.next());
                     origin = p;
                 } else if (isSurface) {
-                    const SurfaceShading surface = surfaceShading(f, hit);
+                    // Seen from the camera, the noise as fine as its pixel (as the fast integrator draws it).
+                    const SurfaceShading surface =
+                        events == 0
+                            ? surfaceShading(
+                                  f, hit, surfaceNoise(surfaceMaterial(f, hit.object), hit.position, pixelFootprint(f, hit, dir)))
+                            : surfaceShading(f, hit);
                     const Vec3d offset = hit.position + hit.geometricNormal * 1e-3 * (1.0 + hit.distance);
                     const double cosSun = surface.normal.dot(toSun);
                     if (cosSun > 0.0) radiance += weight * surface.albedo * sunRadiance * (cosSun / M_PI * sunReaching(offset));

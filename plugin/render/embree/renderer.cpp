@@ -22,6 +22,14 @@ SurfaceShading surfaceShading(const FrameToRender& frame, const SurfaceHit& hit,
     return {normal, surfaceAlbedo(material, hit.position, normal, frame.terrainLow, frame.terrainHigh, noise)};
 }
 
+double pixelFootprint(const FrameToRender& frame, const SurfaceHit& hit, const Vec3d& dir)
+{
+    // The pixel's angle at the image centre (vertical field of view over
+    // rows) times the distance, widened where the ray grazes the surface.
+    const double pixelAngle = 2.0 * frame.camera.tanHalfFov() / frame.settings->image.height;
+    return hit.distance * pixelAngle / std::max(0.25, std::abs(hit.normal.dot(dir)));
+}
+
 SurfaceShading surfaceShading(const FrameToRender& frame, const SurfaceHit& hit)
 {
     return surfaceShading(frame, hit, surfaceNoise(surfaceMaterial(frame, hit.object), hit.position));
@@ -87,7 +95,8 @@ RenderImage renderFast(const FrameToRender& f)
             SurfaceHit hit;
             const bool isSurface = f.surfaces->intersect(f.camera.position(), dir, 0.0, std::numeric_limits<double>::max(), hit);
             if (isSurface && (drawn.pixel != pixel || drawn.object != hit.object))
-                drawn = {pixel, hit.object, surfaceNoise(surfaceMaterial(f, hit.object), hit.position)};
+                drawn = {pixel, hit.object,
+                         surfaceNoise(surfaceMaterial(f, hit.object), hit.position, pixelFootprint(f, hit, dir))};
             // Premultiplied: a drawn sky is an opaque background; a
             // transparent one adds neither light nor coverage.
             const bool drawSky = !s.image.transparentSky;

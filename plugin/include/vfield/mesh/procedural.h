@@ -7,6 +7,7 @@
 #include <vfield/mesh/triangle_mesh.h>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,12 +15,21 @@ namespace vfield {
 
 /// A groove (or, with negative depth, a ridge) cut into a terrain along a path
 /// in the ground plane. A path of three or more points is followed as a smooth
-/// Catmull-Rom curve, so a few points describe a winding canyon.
+/// Catmull-Rom curve, so a few points describe a winding canyon. With a
+/// floorHeight the carve levels the ground to that height instead: a canyon
+/// through rugged mountains gets an even floor, its walls keep the relief.
 struct TerrainCarve {
     std::vector<Vec2d> path;    ///< (x, z) points, world units; at least two
     double halfWidth = 10.0;    ///< distance from the path at which the cut ends, world units (1e-9..1e12)
     double depth = 10.0;        ///< how far the path's centre line is lowered, world units (-1e12..1e12; < 0 raises a ridge)
     double wallSharpness = 1.0; ///< profile shape: 1 a smooth valley, larger values steeper walls and a flatter floor (1..100)
+    /// How far the walls wander in and out (buttresses and alcoves), world
+    /// units (0..halfWidth): fBm at the scale of halfWidth added to the
+    /// distance from the path; 0 keeps the walls parallel to it.
+    double wallRoughness = 0.0;
+    /// When set, the height the path's centre line is levelled to (world
+    /// units), the profile blending it into the ground around; depth is unused.
+    std::optional<double> floorHeight;
 
     /// Throws OptionError naming the first option out of range.
     void validate() const;

@@ -5,6 +5,8 @@
 
 #include <vfield/render/render_settings.h>
 
+#include <limits>
+
 namespace vfield {
 
 /// How a surface is coloured.
@@ -22,13 +24,21 @@ struct SurfaceMaterial {
 
 /// The world-space noise a surface's shading draws at a point (none for
 /// painted surfaces). Apart from the shading so that a renderer can draw it
-/// once per pixel and surface, as a texture is filtered: its finest feature,
-/// 0.75 units across, spans several pixels at the showcases' distances.
+/// once per pixel and surface, as a texture is filtered. Its features down to
+/// 0.75 units are always drawn; finer octaves (`detail`, and bumps within the
+/// gradient) only where a pixel is small enough to hold them, as a mipmap
+/// would: a rock wall next to the camera shows grain, distant slopes do not
+/// shimmer.
 struct SurfaceNoise {
     Vec3d bumpGradient{0.0};                     ///< of the bump noise, per world unit
     double broad = 0.0, fine = 0.0, stone = 0.0; ///< colour noise at three scales, about [-1, 1]
+    double detail = 0.0;                         ///< colour noise finer than `fine`, about [-1, 1]; 0 where pixels are coarse
 };
-SurfaceNoise surfaceNoise(const SurfaceMaterial& material, const Vec3d& position);
+/// pixelFootprint: the width of the pixel's footprint at the point, world
+/// units; octaves with a period under twice it are left out (infinity: none
+/// finer than 0.75 units).
+SurfaceNoise surfaceNoise(const SurfaceMaterial& material, const Vec3d& position,
+                          double pixelFootprint = std::numeric_limits<double>::infinity());
 
 /// Diffuse reflectance (linear RGB) of a surface point with unit normal
 /// `normal`; terrain colours depend on where the height lies in [low, high],

@@ -42,6 +42,9 @@ struct SurfaceShading {
     Vec3d albedo;
 };
 SurfaceMaterial surfaceMaterial(const FrameToRender& frame, int object);
+/// The width of a camera pixel's footprint where the ray `dir` from the
+/// camera hits, world units: how fine the surface's noise is drawn there.
+double pixelFootprint(const FrameToRender& frame, const SurfaceHit& hit, const Vec3d& dir);
 SurfaceShading surfaceShading(const FrameToRender& frame, const SurfaceHit& hit);
 SurfaceShading surfaceShading(const FrameToRender& frame, const SurfaceHit& hit, const SurfaceNoise& noise);
 
