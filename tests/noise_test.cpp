@@ -66,3 +66,28 @@ TEST_CASE("noise: fBm's sampled gradient is the derivative of fBm over every oct
     CHECK(worstValue < 1e-5);
     CHECK(worstGradient < 2e-3 * largestGradient);
 }
+
+TEST_CASE("noise: billow is |noise| summed over octaves, lumps in [0, 1] with creases at the noise's zeros", "[noise]")
+{
+    const GradientNoise noise(5);
+    std::mt19937 random(2);
+    std::uniform_real_distribution<float> coordinate(-50.0f, 50.0f);
+    double sum = 0.0, lowest = 1.0, highest = 0.0;
+    const int count = 4000;
+    for (int i = 0; i < count; ++i) {
+        const Vec3f p(coordinate(random), coordinate(random), coordinate(random));
+        // One octave: twice the noise's magnitude, zero where it crosses zero.
+        CHECK(billow(noise, p, {1, 2.0, 0.5}) == Approx(std::min(1.0f, 2.0f * std::abs(noise(p[0], p[1], p[2])))).margin(1e-6));
+        const float b = billow(noise, p, {3, 2.0, 0.5});
+        REQUIRE(b >= 0.0f);
+        REQUIRE(b <= 1.0f);
+        sum += b;
+        lowest = std::min(lowest, double(b));
+        highest = std::max(highest, double(b));
+    }
+    // Spread over the range, not a constant: puffs and creases both occur.
+    CHECK(sum / count > 0.2);
+    CHECK(sum / count < 0.7);
+    CHECK(lowest < 0.1);
+    CHECK(highest > 0.8);
+}

@@ -43,6 +43,7 @@ TEST_CASE("scene: bad values are refused with their JSON path", "[scene]")
     CHECK_THROWS_WITH(sceneWith(R"(, "clouds": [{"count": -5}])"),
                       "s.json: /clouds/0/count: expected a positive integer, got -5");
     CHECK_THROWS_WITH(sceneWith(R"(, "clouds": [{"cuont": 5}])"), "s.json: /clouds/0/cuont: unknown key \"cuont\"");
+    CHECK_THROWS_WITH(sceneWith(R"(, "clouds": [{"billow": 1}])"), Catch::Contains("/clouds/0/billow"));
     CHECK_THROWS_WITH(sceneWith(R"(, "frames": {"start": 10, "end": 2})"), Catch::Contains("/frames: \"end\" comes before"));
     CHECK_THROWS_WITH(sceneWith(R"(, "simulation": {"sampling": "cubic"})"), Catch::Contains("/simulation/sampling"));
     CHECK_THROWS_WITH(sceneWith(R"(, "camera": {"follow": {"object": "ground"}})"), Catch::Contains("not a dynamic object"));

@@ -96,6 +96,46 @@ TEST_CASE("simulator: substeps keep each move within cfl of the cell around the 
     CHECK(onlyParticle(sim)[0] == Approx(100.0 / 24.0));
 }
 
+TEST_CASE("simulator: a billowed cloud is emitted as lumps cut into its shape, its core full", "[sim]")
+{
+    const auto emitted = [](double billow) {
+        const std::string text = R"({"version": 1, "objects": [], "clouds": [{"count": 40000, "shape": "sphere",
+          "radius": 10, "center": [0, 50, 0], "billow": )" +
+                                 std::to_string(billow) + R"(, "billowSize": 6}]})";
+        Simulator sim(parseScene(text, "puffs.json").simulation);
+        std::vector<Vec3d> offsets; // from the centre, in radii
+        for (const Vec3f& p : sim.particles().position) offsets.push_back((Vec3d(p) - Vec3d(0, 50, 0)) / 10.0);
+        return offsets;
+    };
+    // The outline: the farthest particle in each of 8 x 16 latitude-longitude bins.
+    const auto outline = [](const std::vector<Vec3d>& offsets) {
+        std::vector<double> farthest(8 * 16, 0.0);
+        for (const Vec3d& u : offsets) {
+            const double r = u.length();
+            const int lat = std::min(7, int((std::acos(std::clamp(u[1] / r, -1.0, 1.0)) / M_PI) * 8));
+            const int lon = std::min(15, int((std::atan2(u[2], u[0]) / M_PI + 1.0) * 8));
+            farthest[lat * 16 + lon] = std::max(farthest[lat * 16 + lon], r);
+        }
+        return farthest;
+    };
+    const auto coreFraction = [](const std::vector<Vec3d>& offsets) {
+        return double(std::count_if(offsets.begin(), offsets.end(), [](const Vec3d& u) { return u.length() < 0.3; })) /
+               double(offsets.size());
+    };
+    const std::vector<Vec3d> plain = emitted(0.0), puffs = emitted(0.7);
+    for (const Vec3d& u : puffs) REQUIRE(u.length() <= 1.0 + 1e-6);
+    const std::vector<double> round = outline(plain), lumpy = outline(puffs);
+    // A plain sphere's outline is round; a billowed one comes in to 1 - 0.7 at
+    // its deepest creases and reaches the full radius at its puffs.
+    CHECK(*std::min_element(round.begin(), round.end()) > 0.95);
+    CHECK(*std::min_element(lumpy.begin(), lumpy.end()) < 0.75);
+    CHECK(*std::max_element(lumpy.begin(), lumpy.end()) > 0.95);
+    // Within 0.3 of the centre every point is kept: the same count fills a
+    // smaller volume, so the core holds a larger share of it.
+    CHECK(coreFraction(plain) == Approx(0.027).margin(0.004));
+    CHECK(coreFraction(puffs) > 1.5 * coreFraction(plain));
+}
+
 TEST_CASE("simulator: a fine field far from the cloud leaves its substeps as they were", "[sim]")
 {
     // The substep bound once took the finest leaf of any field in the scene:

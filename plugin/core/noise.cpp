@@ -148,6 +148,21 @@ NoiseSample fbmSample(const GradientNoise& noise, const Vec3f& p, const FractalO
     return sum;
 }
 
+float billow(const GradientNoise& noise, const Vec3f& p, const FractalOptions& options)
+{
+    float sum = 0.0f, amplitude = 1.0f, total = 0.0f, frequency = 1.0f;
+    for (int octave = 0; octave < options.octaves; ++octave) {
+        const float shift = 17.31f * float(octave); // as in fbm
+        sum += amplitude * std::abs(noise(p[0] * frequency + shift, p[1] * frequency - shift, p[2] * frequency + 0.5f * shift));
+        total += amplitude;
+        amplitude *= float(options.gain);
+        frequency *= float(options.lacunarity);
+    }
+    // |noise| averages about a quarter and seldom passes a half: doubled, the
+    // sum spans about [0, 1].
+    return std::min(1.0f, 2.0f * sum / total);
+}
+
 float fbm(const GradientNoise& noise, float x, float y, const FractalOptions& options)
 {
     float sum = 0.0f, amplitude = 1.0f, total = 0.0f, frequency = 1.0f;

@@ -50,6 +50,8 @@ void CloudSpec::validate() const
     requireInteger("count", count, 1, kMaxParticles);
     const char* extent = shape == Shape::Sphere ? "radius" : shape == Shape::Box ? "halfSize" : "radii";
     for (int axis = 0; axis < 3; ++axis) requireNumber(extent, radii[axis], 1e-9, 1e9);
+    requireNumber("billow", billow, 0.0, 0.9);
+    requireNumber("billowSize", billowSize, 0.0, 1e9);
     requireNumber("particleRadius", particleRadius, 1e-9, 1e9);
     requireNumber("mass", mass, 1e-9, 1e12);
     requireNumber("drag", drag, 0.0, 1e6);
@@ -184,6 +186,8 @@ CloudSpec cloudSpecFromJson(const JsonValue& json)
             c.shape = shape == "box" ? CloudSpec::Shape::Box : CloudSpec::Shape::Ellipsoid;
             c.radii = o.at(shape == "box" ? "halfSize" : "radii").asVec3();
         }
+        c.billow = o.number("billow", c.billow);
+        c.billowSize = o.number("billowSize", c.billowSize);
         c.particleRadius = o.number("particleRadius", c.particleRadius);
         c.mass = o.number("mass", c.mass);
         c.drag = o.number("drag", c.drag);

@@ -1,6 +1,7 @@
 #include <vfield/sim/simulator.h>
 
 #include <vfield/core/error.h>
+#include <vfield/core/noise.h>
 
 #include <openvdb/tools/Composite.h>
 #include <openvdb/tools/GridTransformer.h>
@@ -29,12 +30,25 @@ constexpr int kSortInterval = 8;
 /// distributions differ between libraries; this does not).
 double unitRandom(std::mt19937_64& random) { return double(random() >> 11) * (1.0 / 9007199254740992.0); }
 
-Vec3d samplePointIn(const CloudSpec& cloud, std::mt19937_64& random)
+/// A point of the cloud's shape, uniform: rejection sampling from the box
+/// around it. With billow the shape's surface is pulled in by up to that
+/// fraction of its radii where the billow noise is high, so the cloud is
+/// lumps with creases between (every point within 1 - billow of the centre is
+/// kept, so the loop ends).
+Vec3d samplePointIn(const CloudSpec& cloud, const GradientNoise& noise, std::mt19937_64& random)
 {
-    for (;;) { // rejection sampling from the box around the shape
+    const double billowSize =
+        cloud.billowSize > 0.0 ? cloud.billowSize : std::min({cloud.radii[0], cloud.radii[1], cloud.radii[2]}) / 3.0;
+    for (;;) {
         const Vec3d u(2 * unitRandom(random) - 1, 2 * unitRandom(random) - 1, 2 * unitRandom(random) - 1);
-        if (cloud.shape == CloudSpec::Shape::Box || u.lengthSqr() <= 1.0)
-            return cloud.center + Vec3d(u[0] * cloud.radii[0], u[1] * cloud.radii[1], u[2] * cloud.radii[2]);
+        const Vec3d offset(u[0] * cloud.radii[0], u[1] * cloud.radii[1], u[2] * cloud.radii[2]);
+        // The shape's norm: 1 on its surface.
+        const double r =
+            cloud.shape == CloudSpec::Shape::Box ? std::max({std::abs(u[0]), std::abs(u[1]), std::abs(u[2])}) : u.length();
+        if (r > 1.0) continue;
+        if (cloud.billow > 0.0 && r > 1.0 - cloud.billow * double(billow(noise, Vec3f(offset / billowSize), {3, 2.0, 0.5})))
+            continue;
+        return cloud.center + offset;
     }
 }
 
@@ -187,8 +201,9 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
     for (std::size_t c = 0; c < mSetup.clouds.size(); ++c) {
         const CloudSpec& cloud = mSetup.clouds[c];
         std::mt19937_64 random(mSetup.seed * 0x9e3779b97f4a7c15ull ^ (cloud.seed + 0x632be59bd9b4e019ull * (c + 1)));
+        const GradientNoise puffs(cloud.seed);
         for (int64_t k = 0; k < cloud.count; ++k) {
-            mParticles.position.emplace_back(samplePointIn(cloud, random));
+            mParticles.position.emplace_back(samplePointIn(cloud, puffs, random));
             mParticles.velocity.emplace_back(cloud.velocity);
             mParticles.rest.push_back(mParticles.position.back());
             mParticles.id.push_back(nextId++);

@@ -46,6 +46,10 @@ float fbm(const GradientNoise& noise, const Vec3f& p, const FractalOptions& opti
 float fbm(const GradientNoise& noise, float x, float y, const FractalOptions& options);
 /// fbm in 3D with its exact gradient, with respect to p.
 NoiseSample fbmSample(const GradientNoise& noise, const Vec3f& p, const FractalOptions& options);
+/// Billow noise (libnoise's name), about [0, 1]: octaves of |noise|, so the
+/// pattern is rounded lumps with sharp creases between them where the noise
+/// crosses zero: cauliflower, the outline of a cumulus.
+float billow(const GradientNoise& noise, const Vec3f& p, const FractalOptions& options);
 
 /// Musgrave's ridged multifractal in 2D, about [0, 1]: sharp crests where the
 /// noise crosses zero, each octave weighted by the one before, so crests carry

@@ -48,11 +48,16 @@ struct CloudSpec {
     Shape shape = Shape::Sphere;
     Vec3d center{0.0};             ///< world units
     Vec3d radii{10.0, 10.0, 10.0}; ///< sphere: radius (all equal); ellipsoid: semi-axes; box: half extents (1e-9..1e9)
-    double particleRadius = 0.5;   ///< world units (1e-9..1e9); the density's default voxel and kernel scale with it
-    double mass = 1.0;             ///< per particle (1e-9..1e12): repulsive forces are divided by it
-    double drag = 0.5;             ///< 1/s (0..1e6)
-    Vec3d velocity{0.0};           ///< initial, world units/s
-    uint64_t seed = 1;             ///< placement of the particles (mixed with the scene's seed)
+    /// How deep rounded puffs cut into the shape, a fraction of its radii
+    /// (0..0.9): the outline of a cumulus, drawn by billow noise on the
+    /// emitted positions; 0 fills the plain shape.
+    double billow = 0.0;
+    double billowSize = 0.0;     ///< world units (0..1e9): the size of the largest puffs; 0: a third of the smallest radius
+    double particleRadius = 0.5; ///< world units (1e-9..1e9); the density's default voxel and kernel scale with it
+    double mass = 1.0;           ///< per particle (1e-9..1e12): repulsive forces are divided by it
+    double drag = 0.5;           ///< 1/s (0..1e6)
+    Vec3d velocity{0.0};         ///< initial, world units/s
+    uint64_t seed = 1;           ///< placement of the particles (mixed with the scene's seed)
 
     /// Throws OptionError naming the first option out of range.
     void validate() const;
