@@ -494,6 +494,10 @@ TEST_CASE("simulator: an edited scene is simulated afresh, leaving no stale fram
     CHECK(edited.frames.size() == 2);
     CHECK(edited.frames.back().alive == 101);
     CHECK_FALSE(std::filesystem::exists(dir + "/density.0003.vdb"));
+    // Every key that changes where particles start counts, the cloud's billow too.
+    Scene billowed = test::showcaseAtTestResolution("cloud_over_terrain.json", 101, 2);
+    billowed.simulation.clouds[0].billow = 0.3;
+    CHECK(simulateScene(billowed, dir).restartedStale);
 }
 
 TEST_CASE("simulator: editing how a scene looks keeps its simulation resumable", "[sim][resume]")

@@ -278,7 +278,7 @@ void add(ContentHash& h, const CloudSpec& c)
     add(h, int64_t(c.shape));
     add(h, c.center);
     add(h, c.radii);
-    for (const double v : {c.particleRadius, c.mass, c.drag}) add(h, v);
+    for (const double v : {c.billow, c.billowSize, c.particleRadius, c.mass, c.drag}) add(h, v);
     add(h, c.velocity);
     add(h, int64_t(c.seed));
 }
