@@ -2,6 +2,7 @@
 #include <vfield/volume/particle_grid.h>
 
 #include <openvdb/points/PointCount.h>
+#include <openvdb/tools/Count.h>
 #include <openvdb/tools/Interpolation.h>
 
 #include <catch2/catch.hpp>
@@ -103,6 +104,16 @@ TEST_CASE("particle grid: every particle is stored with its attributes", "[volum
     const auto& descriptor = points->tree().cbeginLeaf()->attributeSet().descriptor();
     for (const char* name : {"P", "v", "rest", "id", "pscale"})
         CHECK(descriptor.find(name) != openvdb::points::AttributeSet::INVALID_POS);
+    CHECK(descriptor.find("rest2") == openvdb::points::AttributeSet::INVALID_POS);
+
+    // With dual rest, the second rest and the blend go with them.
+    ParticleSet dual = particles;
+    dual.rest2 = dual.position;
+    dual.rest2Weight = 0.25f;
+    const auto dualPoints = openvdb::gridPtrCast<openvdb::points::PointDataGrid>(makeParticleGrid(dual));
+    CHECK(dualPoints->tree().cbeginLeaf()->attributeSet().descriptor().find("rest2") !=
+          openvdb::points::AttributeSet::INVALID_POS);
+    CHECK(dualPoints->metaValue<float>("rest2Weight") == 0.25f);
 }
 
 namespace {
@@ -169,4 +180,57 @@ TEST_CASE("density detail travels with the material: moved particles keep their 
     for (std::size_t i = 0; i < particles.size(); ++i) particles.rest[i] = particles.position[i];
     const DensityGrids swum = splatParticles(particles, detailOptions());
     CHECK(largestDifference(*before.density, *swum.density, openvdb::Coord(4, 0, 2)) > 0.05);
+}
+
+namespace {
+
+/// The relative spread the detail adds: the standard deviation of detailed
+/// over smooth density, where the smooth density is well inside the cloud.
+double detailContrast(const DensityGrids& detailed, const openvdb::FloatGrid& smooth)
+{
+    const openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> base(smooth);
+    double sum = 0.0, squares = 0.0;
+    std::size_t n = 0;
+    const double inside = 0.5 * openvdb::tools::minMax(smooth.tree()).max();
+    for (auto it = detailed.density->cbeginValueOn(); it; ++it) {
+        const double rho = base.wsSample(detailed.density->transform().indexToWorld(it.getCoord()));
+        if (rho < inside) continue;
+        const double ratio = double(*it) / rho;
+        sum += ratio;
+        squares += ratio * ratio;
+        ++n;
+    }
+    const double mean = sum / double(n);
+    return std::sqrt(squares / double(n) - mean * mean);
+}
+
+} // namespace
+
+TEST_CASE("density detail with dual rest: a rest reset at zero weight does not show, and the blend keeps the contrast",
+          "[volume]")
+{
+    ParticleSet particles = randomParticles(40000, 5);
+    const DensityGrids single = splatParticles(particles, detailOptions());
+
+    // rest2 anywhere at weight 0: the detail is rest's alone, to the bit.
+    particles.rest2 = particles.position;
+    for (Vec3f& p : particles.rest2) p += Vec3f(3.7f, -1.3f, 2.1f);
+    particles.rest2Weight = 0.0f;
+    CHECK(largestDifference(*single.density, *splatParticles(particles, detailOptions()).density, openvdb::Coord(0)) == 0.0);
+    // At weight 1 it is rest2's: other detail.
+    particles.rest2Weight = 1.0f;
+    const DensityGrids second = splatParticles(particles, detailOptions());
+    CHECK(largestDifference(*single.density, *second.density, openvdb::Coord(0)) > 0.05);
+
+    // Halfway, two independent noises averaged would lose 1 - 1/sqrt(2) of
+    // their contrast (29%); normalized, the blend keeps it.
+    particles.rest2Weight = 0.5f;
+    const DensityGrids blended = splatParticles(particles, detailOptions());
+    VolumeOptions plain = detailOptions();
+    plain.detail.voxelSize = 0.0;
+    const DensityGrids smooth = splatParticles(particles, plain);
+    const double contrastSingle = detailContrast(single, *smooth.density),
+                 contrastBlended = detailContrast(blended, *smooth.density);
+    INFO("detail contrast: " << contrastSingle << " from rest, " << contrastBlended << " blended");
+    CHECK(contrastBlended == Approx(contrastSingle).epsilon(0.12));
 }

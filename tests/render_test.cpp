@@ -8,6 +8,8 @@
 
 #include <OpenImageIO/imagebufalgo.h>
 
+#include <openvdb/tools/Composite.h>
+
 #include <tbb/global_control.h>
 
 #include <cmath>
@@ -307,4 +309,29 @@ TEST_CASE("render: terrain noise gains detail only where a pixel resolves it, fa
     CHECK(tiltSeen > 0.1);
     // Painted surfaces stay plain however close.
     CHECK(surfaceNoise(SurfaceMaterial::painted(Vec3d(1.0)), p, 0.001).detail == 0.0);
+}
+
+TEST_CASE("render: skipping empty space leaves every sample of the march where it was", "[render]")
+{
+    // Two clouds along the ray with empty nodes between: the skipper marches
+    // them as separate spans, and must sample the same depths as a march
+    // through the whole box (restarted at each span, its steps showed as
+    // stripes along node boundaries).
+    openvdb::FloatGrid::Ptr grid = constantBox({-40, -3, -3}, {-25, 3, 3}, 0.25, 0.7f);
+    openvdb::tools::compMax(*grid, *constantBox({22.3, -3, -3}, {40, 3, 3}, 0.25, 0.4f));
+    RenderSettings skipping = medium(0.5, 0.9, 0.3, 0.5), marching = skipping;
+    skipping.integrator.skipEmptySpace = true;
+    marching.integrator.skipEmptySpace = false;
+    const LitCloud skipped(grid, skipping, Vec3d(0, 1, 0), nullptr), whole(grid, marching, Vec3d(0, 1, 0), nullptr);
+    for (const double jitter : {0.1, 0.5, 0.93})
+        for (const double y : {-2.0, 0.3, 1.7}) {
+            const Vec3d origin(-60, y, 0.1), dir = Vec3d(1, 0.01, 0.02).unit();
+            const CloudVolume::Segment a = skipped.volume.march(origin, dir, 0.0, 1e9, jitter, Vec3d(2.0), Vec3d(0.5));
+            const CloudVolume::Segment b = whole.volume.march(origin, dir, 0.0, 1e9, jitter, Vec3d(2.0), Vec3d(0.5));
+            INFO("jitter " << jitter << ", y " << y);
+            CHECK(a.transmittance < 0.99);
+            CHECK(a.transmittance == Approx(b.transmittance).epsilon(1e-9));
+            CHECK(a.radiance[0] == Approx(b.radiance[0]).epsilon(1e-9));
+            CHECK(a.distance == Approx(b.distance).epsilon(1e-9));
+        }
 }

@@ -46,6 +46,8 @@ TEST_CASE("scene: bad values are refused with their JSON path", "[scene]")
     CHECK_THROWS_WITH(sceneWith(R"(, "clouds": [{"billow": 1}])"), Catch::Contains("/clouds/0/billow"));
     CHECK_THROWS_WITH(sceneWith(R"(, "frames": {"start": 10, "end": 2})"), Catch::Contains("/frames: \"end\" comes before"));
     CHECK_THROWS_WITH(sceneWith(R"(, "simulation": {"sampling": "cubic"})"), Catch::Contains("/simulation/sampling"));
+    CHECK_THROWS_WITH(sceneWith(R"(, "simulation": {"restPeriod": 5})"),
+                      "s.json: /simulation/restPeriod: restPeriod must be an even number of frames (or 0), not 5");
     CHECK_THROWS_WITH(sceneWith(R"(, "camera": {"follow": {"object": "ground"}})"), Catch::Contains("not a dynamic object"));
     CHECK_THROWS_WITH(sceneWith(R"(, "render": {"integrator": "pathtracer"})"),
                       "s.json: /render/integrator: expected one of \"fast\", \"reference\", got \"pathtracer\"");

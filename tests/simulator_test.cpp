@@ -289,7 +289,7 @@ TEST_CASE("showcase: the cloud squeezes through the pass and pours down beyond i
     CHECK(frame(240).alive > 0.99 * 4000);
 }
 
-TEST_CASE("showcase: the octree and distance fields keep the cloud off the terrain; a potential flow hugs it",
+TEST_CASE("showcase: the octree and distance fields keep the cloud off the terrain, a potential flow hugs it",
           "[sim][showcase][methods]")
 {
     std::map<RepulsionMethod, SimulateSummary> runs;
@@ -448,7 +448,8 @@ TEST_CASE("simulator: the same scene gives the same grids for 1 and 2 threads", 
 
 TEST_CASE("simulator: a killed run resumes and ends as an uninterrupted one", "[sim][resume]")
 {
-    const Scene scene = test::showcaseAtTestResolution("cloud_over_terrain.json", 2000, 24);
+    Scene scene = test::showcaseAtTestResolution("cloud_over_terrain.json", 2000, 24);
+    scene.simulation.options.restPeriod = 6; // both rests reset before and after the kill
     const std::string whole = test::scratchDir("resume-whole"), killed = test::scratchDir("resume-killed");
     simulateScene(scene, whole);
 
@@ -497,6 +498,9 @@ TEST_CASE("simulator: an edited scene is simulated afresh, leaving no stale fram
     // Every key that changes where particles start counts, the cloud's billow too.
     Scene billowed = test::showcaseAtTestResolution("cloud_over_terrain.json", 101, 2);
     billowed.simulation.clouds[0].billow = 0.3;
+    CHECK(simulateScene(billowed, dir).restartedStale);
+    // And so does every key that changes the rest positions written.
+    billowed.simulation.options.restPeriod = 2;
     CHECK(simulateScene(billowed, dir).restartedStale);
 }
 
@@ -619,4 +623,35 @@ TEST_CASE("particles: a spatial sort keeps each particle's attributes together a
         CHECK(particles.cloud[i] == id % 3);
     }
     CHECK(std::count(seen.begin(), seen.end(), 1) == std::ptrdiff_t(seen.size()));
+}
+
+TEST_CASE("simulator: dual rest resets each rest where its weight is zero, half a period apart", "[sim]")
+{
+    Scene scene = test::singleParticleScene(R"([{"acceleration": [6, 0, 0]}])", 20, 0.0, 24.0);
+    scene.simulation.options.restPeriod = 4;
+    Simulator sim(scene.simulation);
+    const Vec3f emitted = sim.particles().position[0];
+    std::map<int, Vec3f> positions{{1, emitted}};
+    for (int frame = 2; frame <= 9; ++frame) {
+        sim.advanceFrame();
+        positions[frame] = sim.particles().position[0];
+    }
+    // Frame 9 is two periods in: rest was reset at frames 5 and 9, rest2 at 3 and 7.
+    const ParticleSet& particles = sim.particles();
+    CHECK(particles.rest[0] == positions[9]);
+    CHECK(particles.rest2[0] == positions[7]);
+    CHECK(particles.rest2Weight == 1.0f); // rest was just reset: all of the detail from rest2
+    sim.advanceFrame();
+    CHECK(particles.rest2Weight == 0.5f);
+    sim.advanceFrame();
+    CHECK(particles.rest2[0] == sim.particles().position[0]); // frame 11: rest2 reset ...
+    CHECK(particles.rest2Weight == 0.0f);                     // ... where it has no weight
+    CHECK(particles.rest[0] == positions[9]);
+
+    // The saved state carries both rests and the blend.
+    Simulator restored(scene.simulation);
+    restored.restoreState(sim.serializeState());
+    CHECK(restored.particles().rest == particles.rest);
+    CHECK(restored.particles().rest2 == particles.rest2);
+    CHECK(restored.particles().rest2Weight == particles.rest2Weight);
 }

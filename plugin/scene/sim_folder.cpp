@@ -295,7 +295,7 @@ void add(ContentHash& h, const UniformFieldSpec& f)
 
 // --- state.bin ----------------------------------------------------------------
 
-constexpr const char* kRunStateHeader = "vfield-run 5";
+constexpr const char* kRunStateHeader = "vfield-run 6";
 
 } // namespace
 
@@ -314,6 +314,7 @@ uint64_t simulationInputsHash(const SimulationSetup& setup, const VolumeOptions&
     add(h, int64_t(setup.options.sampling));
     add(h, setup.options.cfl);
     add(h, setup.options.domain);
+    add(h, int64_t(setup.options.restPeriod));
     for (const double v : {volume.voxelSize, volume.kernelRadius, volume.densityPerParticle}) add(h, v);
     const VolumeDetail& detail = volume.detail;
     for (const double v : {detail.voxelSize, detail.frequency, detail.amplitude, detail.edgeSoftness}) add(h, v);

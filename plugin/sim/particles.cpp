@@ -27,6 +27,7 @@ void ParticleSet::keep(const std::vector<uint8_t>& alive)
         position[kept] = position[i];
         velocity[kept] = velocity[i];
         rest[kept] = rest[i];
+        if (!rest2.empty()) rest2[kept] = rest2[i];
         id[kept] = id[i];
         radius[kept] = radius[i];
         cloud[kept] = cloud[i];
@@ -35,6 +36,7 @@ void ParticleSet::keep(const std::vector<uint8_t>& alive)
     position.resize(kept);
     velocity.resize(kept);
     rest.resize(kept);
+    if (!rest2.empty()) rest2.resize(kept);
     id.resize(kept);
     radius.resize(kept);
     cloud.resize(kept);
@@ -80,6 +82,7 @@ void ParticleSet::sortSpatially(const BBoxd& box)
     permute(position, order);
     permute(velocity, order);
     permute(rest, order);
+    if (!rest2.empty()) permute(rest2, order);
     permute(id, order);
     permute(radius, order);
     permute(cloud, order);

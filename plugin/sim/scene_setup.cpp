@@ -73,6 +73,11 @@ void SimulationOptions::validate() const
 {
     requireNumber("cfl", cfl, 1e-3, 1.0);
     if (domain) requireBox("domain", *domain);
+    if (restPeriod != 0) {
+        requireInteger("restPeriod", restPeriod, 2, SimulationSetup::kMaxFrame - 1);
+        require(restPeriod % 2 == 0, "restPeriod",
+                "restPeriod must be an even number of frames (or 0), not " + std::to_string(restPeriod));
+    }
 }
 
 void SimulationSetup::validate() const
@@ -215,6 +220,7 @@ SimulationOptions simulationOptionsFromJson(const JsonValue& json)
                          ? SimulationOptions::Sampling::Nearest
                          : SimulationOptions::Sampling::Trilinear;
         s.cfl = o.number("cfl", s.cfl);
+        s.restPeriod = o.integer("restPeriod", s.restPeriod);
         if (const auto domain = o.find("domain")) s.domain = boxFromJson(*domain);
     });
 }

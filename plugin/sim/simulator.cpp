@@ -214,6 +214,7 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
     }
     mDomain = mSetup.options.domain.value_or(domain);
     mStatesAtFrameStart = mStates;
+    updateRestPositions();
 
     mObjectFields.resize(mObjects.size());
     mCloudFields.resize(mSetup.clouds.size());
@@ -526,6 +527,19 @@ void Simulator::advanceFrame(const std::function<void()>& afterDynamicSubstep)
     advanceDynamicObjects(t0, t1, afterDynamicSubstep);
     ++mFrame; // poseAt interpolates between the two frames' poses
     advanceParticles(t0, t1);
+    updateRestPositions();
+}
+
+void Simulator::updateRestPositions()
+{
+    const int period = mSetup.options.restPeriod;
+    if (period == 0) return;
+    // Each rest is reset where its weight is zero: `rest` at the period's
+    // start, rest2 half a period later; the weights ramp linearly between.
+    const int age = (mFrame - mSetup.firstFrame) % period;
+    if (age == 0) mParticles.rest = mParticles.position;
+    if (age == period / 2 || mParticles.rest2.empty()) mParticles.rest2 = mParticles.position;
+    mParticles.rest2Weight = float(std::abs(1.0 - 2.0 * age / period));
 }
 
 openvdb::Vec3SGrid::Ptr Simulator::staticForceGrid() const
@@ -601,7 +615,7 @@ private:
     std::size_t mAt = 0;
 };
 
-constexpr uint64_t kStateMagic = 0x3274617473646676ull; // "vfdstat2"
+constexpr uint64_t kStateMagic = 0x3374617473646676ull; // "vfdstat3"
 
 } // namespace
 
@@ -623,6 +637,7 @@ std::string Simulator::serializeState() const
     putVector(out, mParticles.position);
     putVector(out, mParticles.velocity);
     putVector(out, mParticles.rest);
+    putVector(out, mParticles.rest2);
     putVector(out, mParticles.id);
     putVector(out, mParticles.radius);
     putVector(out, mParticles.cloud);
@@ -649,11 +664,13 @@ void Simulator::restoreState(const std::string& bytes)
     in.getVector(particles.position);
     in.getVector(particles.velocity);
     in.getVector(particles.rest);
+    in.getVector(particles.rest2);
     in.getVector(particles.id);
     in.getVector(particles.radius);
     in.getVector(particles.cloud);
     const std::size_t n = particles.size();
-    if (!in.atEnd() || particles.velocity.size() != n || particles.rest.size() != n || particles.id.size() != n ||
+    if (!in.atEnd() || particles.velocity.size() != n || particles.rest.size() != n ||
+        particles.rest2.size() != (mSetup.options.restPeriod == 0 ? 0 : n) || particles.id.size() != n ||
         particles.radius.size() != n || particles.cloud.size() != n)
         throw ValueError("the saved simulation state is inconsistent");
     for (const uint16_t c : particles.cloud)
@@ -664,6 +681,7 @@ void Simulator::restoreState(const std::string& bytes)
     mStates = std::move(states);
     mStatesAtFrameStart = mStates;
     mParticles = std::move(particles);
+    updateRestPositions();
 }
 
 } // namespace vfield

@@ -14,6 +14,7 @@
 #include <tbb/partitioner.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -69,20 +70,36 @@ VolumeOptions volumeOptionsFromJson(const JsonValue& json)
 
 namespace {
 
+/// At most two rest positions a particle's detail is drawn at (dual rest).
+constexpr int kMaxRests = 2;
+
+/// One rest position the detail is drawn at, and how much of it.
+struct RestChannel {
+    const std::vector<Vec3f>* positions = nullptr;
+    float weight = 1.0f;
+    /// Added to the noise's coordinates: the second rest draws from another
+    /// part of the noise, so the two are independent and their blend keeps the
+    /// noise's contrast when normalized (see detailedDensity).
+    openvdb::Vec3f noiseOffset{0.0f};
+};
+
 /// Unnormalized sums over a range of particles: of their deposited weights
 /// W, and of W v and W rest, whose ratios to the weights are the mean velocity and
-/// rest position.
+/// rest positions.
 struct Splat {
     openvdb::FloatGrid::Ptr weight;
-    openvdb::Vec3SGrid::Ptr momentum, rest;
+    openvdb::Vec3SGrid::Ptr momentum;
+    std::array<openvdb::Vec3SGrid::Ptr, kMaxRests> rest;
 
     explicit Splat(const openvdb::math::Transform::Ptr& transform)
-        : weight(openvdb::FloatGrid::create(0.0f)), momentum(openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f))),
-          rest(openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f)))
+        : weight(openvdb::FloatGrid::create(0.0f)), momentum(openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f)))
     {
         weight->setTransform(transform);
         momentum->setTransform(transform);
-        rest->setTransform(transform);
+        for (auto& grid : rest) {
+            grid = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
+            grid->setTransform(transform);
+        }
     }
 };
 
@@ -98,15 +115,19 @@ constexpr uint64_t kRunVoxels = 4096, kRunVoxelsPerParticle = 16;
 /// component so that the innermost loop (along z) is plain arithmetic.
 struct DenseSums {
     openvdb::Coord origin, dim;
-    std::vector<float> w, vx, vy, vz, rx, ry, rz;
+    std::vector<float> w, vx, vy, vz;
+    std::array<std::array<std::vector<float>, 3>, kMaxRests> r; ///< per rest channel, per axis
 
-    /// Zeroes the sums over a new box, keeping the arrays' memory.
-    void reset(const openvdb::CoordBBox& box)
+    /// Zeroes the sums over a new box, those of the first `rests` rest
+    /// channels too, keeping the arrays' memory.
+    void reset(const openvdb::CoordBBox& box, std::size_t rests)
     {
         origin = box.min();
         dim = box.dim();
         const std::size_t n = std::size_t(dim.x()) * std::size_t(dim.y()) * std::size_t(dim.z());
-        for (std::vector<float>* a : {&w, &vx, &vy, &vz, &rx, &ry, &rz}) a->assign(n, 0.0f);
+        for (std::vector<float>* a : {&w, &vx, &vy, &vz}) a->assign(n, 0.0f);
+        for (std::size_t c = 0; c < rests; ++c)
+            for (auto& axis : r[c]) axis.assign(n, 0.0f);
     }
     std::size_t at(const openvdb::Coord& c) const
     {
@@ -180,8 +201,8 @@ double smoothstep01(double x)
 /// The density resampled on a grid `ratio` times finer and shaped by noise at
 /// the interpolated rest position. Each fine voxel is computed on its own, so
 /// the grid is the same for any thread count.
-openvdb::FloatGrid::Ptr detailedDensity(const openvdb::FloatGrid& density, const openvdb::Vec3SGrid& rest,
-                                        const VolumeDetail& detail, double edgeSoftness)
+openvdb::FloatGrid::Ptr detailedDensity(const openvdb::FloatGrid& density, const std::vector<openvdb::Vec3SGrid::Ptr>& rests,
+                                        const std::vector<RestChannel>& channels, const VolumeDetail& detail, double edgeSoftness)
 {
     const double coarse = density.voxelSize()[0];
     const int ratio = std::max(1, int(std::lround(coarse / detail.voxelSize)));
@@ -202,13 +223,24 @@ openvdb::FloatGrid::Ptr detailedDensity(const openvdb::FloatGrid& density, const
     const FractalOptions fractal{detail.octaves, 2.0, 0.5};
     const float frequency = float(detail.frequency), amplitude = float(detail.amplitude);
     const double inverseSoftness = 1.0 / edgeSoftness;
+    // Two independent noises blended with weights a and b have a standard
+    // deviation sqrt(a^2 + b^2) of one: dividing by it keeps the contrast
+    // through the blend.
+    double weightNorm = 0.0;
+    for (const RestChannel& channel : channels) weightNorm += double(channel.weight) * double(channel.weight);
+    const float inverseNorm = float(1.0 / std::sqrt(weightNorm));
     using FineLeaf = openvdb::FloatTree::LeafNodeType;
     std::vector<std::vector<std::unique_ptr<FineLeaf>>> fineLeaves(coarseLeaves.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, coarseLeaves.size()), [&](const tbb::blocked_range<std::size_t>& range) {
-        openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> densityAt(
-            density.getConstAccessor(), density.transform());
-        openvdb::tools::GridSampler<openvdb::Vec3SGrid::ConstAccessor, openvdb::tools::BoxSampler> restAt(rest.getConstAccessor(),
-                                                                                                          rest.transform());
+        // A sampler keeps a pointer to its accessor: the accessors must outlive them.
+        const openvdb::FloatGrid::ConstAccessor densityAccessor = density.getConstAccessor();
+        std::vector<openvdb::Vec3SGrid::ConstAccessor> restAccessors;
+        for (const auto& rest : rests) restAccessors.push_back(rest->getConstAccessor());
+        openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> densityAt(densityAccessor,
+                                                                                                             density.transform());
+        using RestSampler = openvdb::tools::GridSampler<openvdb::Vec3SGrid::ConstAccessor, openvdb::tools::BoxSampler>;
+        std::vector<RestSampler> restAt;
+        for (std::size_t c = 0; c < rests.size(); ++c) restAt.emplace_back(restAccessors[c], rests[c]->transform());
         for (std::size_t n = range.begin(); n != range.end(); ++n) {
             std::map<openvdb::Coord, std::unique_ptr<FineLeaf>> leaves; // ordered: added to the tree in a fixed order
             for (auto voxel = coarseLeaves[n]->cbeginValueOn(); voxel; ++voxel) {
@@ -220,7 +252,12 @@ openvdb::FloatGrid::Ptr detailedDensity(const openvdb::FloatGrid& density, const
                             const openvdb::Vec3d p = transform->indexToWorld(f);
                             const double rho = densityAt.wsSample(p);
                             if (!(rho > 0.0)) continue;
-                            const float g = fbm(noise, openvdb::Vec3f(restAt.wsSample(p)) * frequency, fractal);
+                            float g = 0.0f;
+                            for (std::size_t r = 0; r < channels.size(); ++r)
+                                g += channels[r].weight *
+                                     fbm(noise, openvdb::Vec3f(restAt[r].wsSample(p)) * frequency + channels[r].noiseOffset,
+                                         fractal);
+                            g *= inverseNorm;
                             // The noise scales the edge threshold rather than offsetting it, so a
                             // thin fringe is always eroded: no shell of faint density around the cloud.
                             const double shaped = rho * std::max(0.0, 1.0 + 0.5 * double(amplitude * g)) *
@@ -253,8 +290,16 @@ DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& o
     const double voxel = resolved.voxelSize;
     const int passes = blurPasses(resolved.kernelRadius / voxel);
     const double perWeight = resolved.densityPerParticle / (voxel * voxel * voxel); // density of a unit weight
-    const bool withRest = resolved.detail.enabled();
-    const std::vector<Vec3f>& rest = particles.rest.size() == particles.size() ? particles.rest : particles.position;
+    // The rest positions the detail is drawn at, those with a weight.
+    std::vector<RestChannel> channels;
+    if (resolved.detail.enabled()) {
+        const bool dual = particles.rest2.size() == particles.size();
+        const float weight2 = dual ? std::clamp(particles.rest2Weight, 0.0f, 1.0f) : 0.0f;
+        if (weight2 < 1.0f)
+            channels.push_back(
+                {particles.rest.size() == particles.size() ? &particles.rest : &particles.position, 1.0f - weight2});
+        if (weight2 > 0.0f) channels.push_back({&particles.rest2, weight2, openvdb::Vec3f(131.7f, -71.3f, 217.9f)});
+    }
 
     const auto transform = openvdb::math::Transform::createLinearTransform(voxel);
 
@@ -268,9 +313,9 @@ DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& o
     // Each voxel's sum runs over the particles in order, so the sums are those
     // of voxel-by-voxel accumulation.
     const auto splatRun = [&](std::size_t first, std::size_t last, const openvdb::CoordBBox& box, DenseSums& sums, Splat& into) {
-        sums.reset(box);
+        sums.reset(box, channels.size());
         for (std::size_t p = first; p != last; ++p) {
-            const openvdb::Vec3s v = particles.velocity[p], r = rest[p];
+            const openvdb::Vec3s v = particles.velocity[p];
             const openvdb::Vec3d index = indexOf(p);
             const openvdb::Coord base = openvdb::Coord::floor(index);
             const float fx = float(index.x() - base.x()), fy = float(index.y() - base.y()), fz = float(index.z() - base.z());
@@ -285,24 +330,28 @@ DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& o
                         sums.vx[at] += v[0] * weight;
                         sums.vy[at] += v[1] * weight;
                         sums.vz[at] += v[2] * weight;
-                        if (!withRest) continue;
-                        sums.rx[at] += r[0] * weight;
-                        sums.ry[at] += r[1] * weight;
-                        sums.rz[at] += r[2] * weight;
+                        for (std::size_t c = 0; c < channels.size(); ++c) {
+                            const Vec3f& r = (*channels[c].positions)[p];
+                            for (int axis = 0; axis < 3; ++axis) sums.r[c][axis][at] += r[axis] * weight;
+                        }
                     }
                 }
         }
         auto weightAccessor = into.weight->getAccessor();
         auto momentumAccessor = into.momentum->getAccessor();
-        auto restAccessor = into.rest->getAccessor();
+        std::vector<openvdb::Vec3SGrid::Accessor> restAccessors;
+        for (std::size_t c = 0; c < channels.size(); ++c) restAccessors.push_back(into.rest[c]->getAccessor());
         for (auto c = box.begin(); c; ++c) {
             const std::size_t at = sums.at(*c);
             if (sums.w[at] == 0.0f) continue;
             weightAccessor.setValueOn(*c, weightAccessor.getValue(*c) + sums.w[at]);
             momentumAccessor.setValueOn(*c,
                                         momentumAccessor.getValue(*c) + openvdb::Vec3s(sums.vx[at], sums.vy[at], sums.vz[at]));
-            if (withRest)
-                restAccessor.setValueOn(*c, restAccessor.getValue(*c) + openvdb::Vec3s(sums.rx[at], sums.ry[at], sums.rz[at]));
+            for (std::size_t r = 0; r < channels.size(); ++r) {
+                const auto& sum = sums.r[r];
+                restAccessors[r].setValueOn(*c,
+                                            restAccessors[r].getValue(*c) + openvdb::Vec3s(sum[0][at], sum[1][at], sum[2][at]));
+            }
         }
     };
 
@@ -337,7 +386,7 @@ DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& o
         [](Splat a, const Splat& b) { // b is discarded after the join: its leaves are taken
             addLeaves(a.weight->tree(), b.weight->tree());
             addLeaves(a.momentum->tree(), b.momentum->tree());
-            addLeaves(a.rest->tree(), b.rest->tree());
+            for (std::size_t r = 0; r < kMaxRests; ++r) addLeaves(a.rest[r]->tree(), b.rest[r]->tree());
             return a;
         },
         tbb::simple_partitioner());
@@ -346,33 +395,37 @@ DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& o
     // means (velocity, rest) are of the blurred weights.
     blur(*total.weight, passes);
     blur(*total.momentum, passes);
-    if (withRest) blur(*total.rest, passes);
+    for (std::size_t r = 0; r < channels.size(); ++r) blur(*total.rest[r], passes);
 
     DensityGrids grids;
     grids.density = openvdb::FloatGrid::create(0.0f);
     grids.density->setTransform(transform->copy());
     grids.velocity = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
     grids.velocity->setTransform(transform->copy());
-    openvdb::Vec3SGrid::Ptr restGrid = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
-    restGrid->setTransform(transform->copy());
+    // The mean rest positions: the rest sums over the weights, in place.
+    std::vector<openvdb::Vec3SGrid::Ptr> restMeans(total.rest.begin(), total.rest.begin() + channels.size());
+    for (const auto& rest : restMeans) {
+        const auto weight = total.weight->getConstAccessor();
+        for (auto it = rest->beginValueOn(); it; ++it) {
+            const float w = weight.getValue(it.getCoord());
+            it.setValue(w > 0.0f ? *it / w : openvdb::Vec3s(0.0f));
+        }
+    }
 
     auto density = grids.density->getAccessor();
     auto velocity = grids.velocity->getAccessor();
-    auto restMean = restGrid->getAccessor();
     auto momentum = total.momentum->getConstAccessor();
-    auto restSum = total.rest->getConstAccessor();
     for (auto it = total.weight->cbeginValueOn(); it; ++it) {
         const float w = *it;
         if (!(w > 0.0f)) continue;
         density.setValue(it.getCoord(), float(perWeight * w));
         velocity.setValue(it.getCoord(), momentum.getValue(it.getCoord()) / w);
-        if (withRest) restMean.setValue(it.getCoord(), restSum.getValue(it.getCoord()) / w);
     }
-    if (withRest) {
+    if (!channels.empty()) {
         // By default the edge is the peak density of one lone particle.
         const double lonePeak = perWeight * std::pow(centreWeight(passes), 3);
         const double softness = resolved.detail.edgeSoftness > 0.0 ? resolved.detail.edgeSoftness : lonePeak;
-        grids.density = detailedDensity(*grids.density, *restGrid, resolved.detail, softness);
+        grids.density = detailedDensity(*grids.density, restMeans, channels, resolved.detail, softness);
     }
     grids.density->setName("density");
     grids.density->setGridClass(openvdb::GRID_FOG_VOLUME);

@@ -23,6 +23,11 @@ openvdb::GridBase::Ptr makeParticleGrid(const ParticleSet& particles)
     points::populateAttribute(tree, index->tree(), "v", points::PointAttributeVector<Vec3f>(particles.velocity));
     points::appendAttribute<Vec3f>(tree, "rest");
     points::populateAttribute(tree, index->tree(), "rest", points::PointAttributeVector<Vec3f>(particles.rest));
+    if (!particles.rest2.empty()) {
+        points::appendAttribute<Vec3f>(tree, "rest2");
+        points::populateAttribute(tree, index->tree(), "rest2", points::PointAttributeVector<Vec3f>(particles.rest2));
+        grid->insertMeta("rest2Weight", FloatMetadata(particles.rest2Weight));
+    }
     points::appendAttribute<int32_t>(tree, "id");
     points::populateAttribute(tree, index->tree(), "id", points::PointAttributeVector<int32_t>(ids));
     points::appendAttribute<float>(tree, "pscale");

@@ -125,8 +125,10 @@ void BM_RawSamplerAdvection(benchmark::State& state)
     for (auto _ : state) {
         tbb::parallel_for(
             tbb::blocked_range<std::size_t>(0, position.size(), 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+                // A sampler keeps a pointer to its accessor: the accessor must outlive it.
+                const openvdb::Vec3SGrid::ConstAccessor accessor = force.getConstAccessor();
                 const openvdb::tools::GridSampler<openvdb::Vec3SGrid::ConstAccessor, openvdb::tools::BoxSampler> sampler(
-                    force.getConstAccessor(), force.transform());
+                    accessor, force.transform());
                 for (std::size_t p = r.begin(); p != r.end(); ++p) {
                     const Vec3f a = sampler.wsSample(Vec3d(position[p])) + uniform - velocity[p] * drag;
                     velocity[p] += a * dt;

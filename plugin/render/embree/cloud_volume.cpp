@@ -76,10 +76,18 @@ CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, d
         if (opacitySum > 0.0) segment.distance = weightedDistance / opacitySum;
         return segment;
     };
-    // Stratified: each step covers [t, t + dt) and samples it at a jittered point.
+    // Stratified: step k covers [tMin + k step, tMin + (k + 1) step), the last
+    // cut at tMax, and samples it at a jittered point. The steps are counted
+    // from tMin for the whole ray, across the empty-space skipper's spans:
+    // restarted at each span, they sampled other depths on either side of a
+    // span's start, which showed as stripes along the tree's node boundaries.
+    double nextStep = 0.0; // the first step not yet marched
     const auto marchInterval = [&](double from, double to) {
-        for (double t = from; t < to && segment.transmittance > 0.0; t += mStep) {
-            const double dt = std::min(mStep, to - t);
+        for (double k = std::max(nextStep, std::floor((from - tMin) / mStep)); segment.transmittance > 0.0; k += 1.0) {
+            const double t = tMin + k * mStep;
+            if (t >= to) break;
+            nextStep = k + 1.0;
+            const double dt = std::min(mStep, tMax - t);
             const Vec3d p = origin + dir * (t + jitter * dt);
             const double rho = sampleDensity(density, densityTransform, p);
             if (rho <= 0.0) continue;

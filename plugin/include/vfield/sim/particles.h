@@ -15,9 +15,16 @@ namespace vfield {
 struct ParticleSet {
     std::vector<Vec3f> position; ///< world units
     std::vector<Vec3f> velocity; ///< world units / s
-    /// Where the particle was emitted (world units): the material coordinate
-    /// that detail is drawn at, so that detail travels with the cloud.
+    /// Where the particle was emitted, or where it stood when its rest was
+    /// last reset (world units): the material coordinate that detail is drawn
+    /// at, so that detail travels with the cloud.
     std::vector<Vec3f> rest;
+    /// Dual rest (SimulationOptions::restPeriod): a second rest position,
+    /// reset half a period after `rest`; empty with a single rest.
+    std::vector<Vec3f> rest2;
+    /// How much of the detail comes from rest2 (0..1): 0 whenever rest2 is
+    /// reset, 1 whenever rest is, so no reset shows. 0 with a single rest.
+    float rest2Weight = 0.0f;
     std::vector<uint32_t> id;    ///< unique for the whole sequence
     std::vector<float> radius;   ///< world units (pscale)
     std::vector<uint16_t> cloud; ///< index of the cloud it came from

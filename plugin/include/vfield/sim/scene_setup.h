@@ -91,6 +91,13 @@ struct SimulationOptions {
     /// Particles leaving this box are removed (and counted). Unset: the union of
     /// all fields' root cubes and the clouds' initial boxes.
     std::optional<BBoxd> domain;
+    /// Dual rest, frames (0 or an even number, 2..9998): every particle's rest
+    /// position is reset to where it stands every restPeriod frames, its
+    /// second rest half a period later, and detail blends the two so that no
+    /// reset shows (ParticleSet::rest2Weight): detail drawn at rest stretches
+    /// with the material no more than one period's motion. 0: one rest
+    /// position, where the particle was emitted, never reset.
+    int restPeriod = 0;
 
     /// Throws OptionError naming the first option out of range.
     void validate() const;

@@ -132,6 +132,9 @@ private:
     /// The uniform fields (indices into the setup's) acting at p.
     Vec3d uniformAcceleration(const std::vector<std::size_t>& fields, const Vec3d& p) const;
     void advanceParticles(double t0, double t1);
+    /// Dual rest (SimulationOptions::restPeriod): resets the rest position due
+    /// at the current frame and sets the blend between the two.
+    void updateRestPositions();
     bool resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t, double dt,
                          std::vector<MeshDistance::Accessor>& accessors) const;
     /// Whether p lies in the band of a potential flow (RepulsionMethod::PotentialFlow).

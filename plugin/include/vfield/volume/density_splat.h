@@ -7,6 +7,10 @@
 /// shaped by fractal noise drawn at each point's interpolated rest position
 /// (where its particles were emitted), so the detail is attached to the
 /// material: it travels and deforms with the cloud instead of swimming through it.
+/// With dual rest (ParticleSet::rest2), the noise is drawn at both rest
+/// positions and blended by rest2Weight, normalized so that the blend keeps
+/// the noise's contrast: the detail stretches with the material no more than
+/// one rest period's motion.
 ///
 /// Each particle spreads densityPerParticle over a smooth kernel: its
 /// trilinear (cloud-in-cell) weights on the eight voxels around it, blurred by
@@ -73,7 +77,8 @@ struct DensityGrids {
 /// spatial order (ParticleSet::sortSpatially) splat about ten times faster
 /// than in random order. Throws
 /// OptionError if the voxel size would make an absurd kernel. particles.rest
-/// may be empty: positions then stand in for it. With detail, `density` is
+/// may be empty: positions then stand in for it; rest2 is used when it has a
+/// position for every particle. With detail, `density` is
 /// the detailed grid (detail.voxelSize) and `vel` stays at the splat's voxel size.
 DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& options);
 
