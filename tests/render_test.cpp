@@ -158,6 +158,43 @@ TEST_CASE("render: a faint cloud straddling the ground leaves the lit ground as 
     CHECK(worst < 1e-3);
 }
 
+TEST_CASE("render: a cloud's shadow on a surface is exp(-sigma tau) of the cloud towards the sun, however large its box",
+          "[render]")
+{
+    // A sphere of constant density, and a speck of cloud 150 units away that
+    // stretches the box of the light grids until their cells are 2.5 units
+    // wide: read from them, the sphere's shadow came out as nested squares.
+    openvdb::initialize();
+    const double radius = 4.0, voxel = 0.25, sigma = 1.0;
+    const float density = 0.2f;
+    openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(0.0f);
+    grid->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
+    const int reach = int(std::ceil(radius / voxel));
+    for (openvdb::Coord c(-reach); c.x() <= reach; ++c.x())
+        for (c.y() = -reach; c.y() <= reach; ++c.y())
+            for (c.z() = -reach; c.z() <= reach; ++c.z())
+                if ((c.asVec3d() * voxel).length() < radius) grid->tree().setValue(c, density);
+    grid->tree().setValue(openvdb::Coord(int(150.0 / voxel), 0, 0), density);
+
+    const Vec3d toSun = Vec3d(0.3, 1.0, 0.2).unit();
+    const CloudLighting lighting(grid, medium(sigma, 0.9, 0.0, 0.1).medium, toSun, {});
+    double worst = 0.0;
+    int shadowed = 0;
+    for (double x = -8.0; x <= 8.0; x += 0.31)
+        for (double z = -8.0; z <= 8.0; z += 0.31) {
+            const Vec3d ground(x, -8.0, z);
+            // The chord of the sun's ray from the ground through the sphere.
+            const double along = -ground.dot(toSun), miss2 = ground.lengthSqr() - along * along;
+            const double chord = miss2 < radius * radius ? 2.0 * std::sqrt(radius * radius - miss2) : 0.0;
+            if (std::abs(std::sqrt(miss2) - radius) < 1.0) continue; // the voxelized rim
+            shadowed += chord > 0.0;
+            worst = std::max(worst, std::abs(lighting.sunTransmittance(ground) - std::exp(-sigma * density * chord)));
+            CHECK(lighting.sunTransmittance(Vec3d(x, 8.0, z)) == 1.0); // above the cloud
+        }
+    CHECK(shadowed > 300);
+    CHECK(worst < 0.02);
+}
+
 TEST_CASE("render: a cloud in a surface's shadow gets no sun", "[render]")
 {
     // A cloud under a roof: lit by the sun where it reaches past the roof's

@@ -13,6 +13,21 @@ namespace {
 
 /// The light transmittance grids have about this many cells along the box's longest side.
 constexpr double kLightGridResolution = 64.0;
+/// The sun depth map's density (two voxels a cell where it fits) and its
+/// lattice stay within these many points, 32 and 16 MiB: a cloud spread over a
+/// large box gets coarser shadows rather than a frame's memory.
+constexpr std::size_t kMaxDepthDensityPoints = std::size_t(1) << 23, kMaxSunDepthPoints = std::size_t(1) << 22;
+
+/// Points of a lattice every `cell` over a box of these extents, corners included.
+std::array<int, 3> latticePoints(const Vec3d& extent, double cell)
+{
+    return {int(std::ceil(extent[0] / cell)) + 1, int(std::ceil(extent[1] / cell)) + 1, int(std::ceil(extent[2] / cell)) + 1};
+}
+
+std::size_t pointCount(const std::array<int, 3>& points)
+{
+    return std::size_t(points[0]) * std::size_t(points[1]) * std::size_t(points[2]);
+}
 
 /// The density box-filtered onto cells of a whole number of its voxels from
 /// `corner` (the lower corner of voxel `first`), values at the cells' centres:
@@ -81,19 +96,96 @@ CloudLighting::CloudLighting(openvdb::FloatGrid::ConstPtr density, const MediumS
     const double voxel = mDensity->voxelSize()[0];
     const Vec3d extent = mBounds.extents();
     const int voxelsPerCell = std::max(2, int(std::ceil(extent[mBounds.maxExtent()] / kLightGridResolution / voxel - 1e-9)));
-    const double cell = voxelsPerCell * voxel;
-    const std::array<int, 3> points{int(std::ceil(extent[0] / cell)) + 1, int(std::ceil(extent[1] / cell)) + 1,
-                                    int(std::ceil(extent[2] / cell)) + 1};
-    const DenseGrid coarse = coarseDensity(*mDensity, active.min() - openvdb::Coord(1), mBounds.min(), points, voxelsPerCell);
+    const openvdb::Coord first = active.min() - openvdb::Coord(1);
+    const std::array<int, 3> points = latticePoints(extent, voxelsPerCell * voxel);
+    const DenseGrid coarse = coarseDensity(*mDensity, first, mBounds.min(), points, voxelsPerCell);
 
-    mSunTransmittance = transmittanceTowards(coarse, mToSun);
-    mSunInCloud = mSunTransmittance;
+    // Shadows on surfaces from a density as fine as fits, in cells of two voxels at best.
+    int depthVoxelsPerCell = 2;
+    while (depthVoxelsPerCell < voxelsPerCell &&
+           pointCount(latticePoints(extent, depthVoxelsPerCell * voxel)) > kMaxDepthDensityPoints)
+        ++depthVoxelsPerCell;
+    mSunDepth = depthVoxelsPerCell == voxelsPerCell
+                    ? sunDepthTowardsSun(coarse)
+                    : sunDepthTowardsSun(coarseDensity(*mDensity, first, mBounds.min(),
+                                                       latticePoints(extent, depthVoxelsPerCell * voxel), depthVoxelsPerCell));
+
+    mSunInCloud = transmittanceTowards(coarse, mToSun);
     if (sunBlocked) // zero where a surface blocks the sun
         tbb::parallel_for(std::size_t(0), mSunInCloud.size(), [&](std::size_t n) {
             const std::array<int, 3> ijk = mSunInCloud.point(n);
             if (sunBlocked(mSunInCloud.position(ijk[0], ijk[1], ijk[2]), mToSun)) mSunInCloud[n] = 0.0f;
         });
     mSkyTransmittance = transmittanceTowards(coarse, Vec3d(0, 1, 0));
+}
+
+CloudLighting::SunDepth CloudLighting::sunDepthTowardsSun(const DenseGrid& density) const
+{
+    SunDepth map;
+    const Vec3d& s = mToSun;
+    map.across1 = (std::abs(s[1]) < 0.9 ? Vec3d(0, 1, 0) : Vec3d(1, 0, 0)).cross(s).unitSafe();
+    map.across2 = s.cross(map.across1);
+    map.centre = mBounds.getCenter();
+    // The box's extent in the map's frame.
+    Vec3d lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (int c = 0; c < 8; ++c) {
+        const Vec3d d = boxCorner(mBounds, c) - map.centre;
+        const Vec3d local(d.dot(map.across1), d.dot(map.across2), d.dot(s));
+        lo = minComponent(lo, local);
+        hi = maxComponent(hi, local);
+    }
+    map.acrossMin1 = lo[0];
+    map.acrossMin2 = lo[1];
+    map.top = hi[2];
+    // Columns every half a density cell, slices every two cells, both
+    // coarser together where the lattice would exceed its budget.
+    double across = 0.5 * density.spacing(), along = 2.0 * density.spacing();
+    std::array<int, 3> points;
+    for (;; across *= 1.25, along *= 1.25) {
+        points = {int(std::ceil((hi[0] - lo[0]) / across)) + 1, int(std::ceil((hi[1] - lo[1]) / across)) + 1,
+                  int(std::ceil((hi[2] - lo[2]) / along)) + 1};
+        if (pointCount(points) <= kMaxSunDepthPoints) break;
+    }
+    map.inverseAcross = 1.0 / across;
+    map.inverseAlong = 1.0 / along;
+    map.depth = DenseGrid(Vec3d(0.0), 1.0, points, 0.0f, 0.0f);
+
+    // Each column marched away from the sun through the box, in steps of at
+    // most a density cell (half a cell changes a shadow by under 0.002), its
+    // depth recorded at every slice.
+    const double maxStep = density.spacing();
+    const Vec3d away = -s;
+    tbb::parallel_for(0, points[1], [&](int j) {
+        for (int i = 0; i < points[0]; ++i) {
+            const Vec3d origin = map.centre + map.across1 * (lo[0] + i * across) + map.across2 * (lo[1] + j * across) + s * hi[2];
+            double tEnter = 0.0, tExit = (points[2] - 1) * along;
+            if (!clip(origin, away, tEnter, tExit)) continue; // the column misses the cloud: depth 0
+            double depth = 0.0, t = 0.0;
+            for (int k = 1; k < points[2]; ++k) {
+                const double from = std::max(t, tEnter), to = std::min(k * along, tExit);
+                if (to > from) {
+                    const int steps = int(std::ceil((to - from) / maxStep));
+                    const double dt = (to - from) / steps;
+                    for (int m = 0; m < steps; ++m) depth += density.at(origin + away * (from + (m + 0.5) * dt)) * dt;
+                }
+                t = k * along;
+                map.depth[map.depth.index(i, j, k)] = float(depth);
+            }
+        }
+    });
+    return map;
+}
+
+double CloudLighting::SunDepth::at(const Vec3d& p, const Vec3d& toSun) const
+{
+    const Vec3d d = p - centre;
+    const double column1 = (d.dot(across1) - acrossMin1) * inverseAcross, column2 = (d.dot(across2) - acrossMin2) * inverseAcross;
+    const std::array<int, 3>& points = depth.points();
+    if (!(column1 >= 0.0 && column2 >= 0.0 && column1 <= points[0] - 1 && column2 <= points[1] - 1)) return 0.0; // misses the box
+    // Beyond the last slice (past the cloud, away from the sun) a point has
+    // its column's whole depth; before the first, none.
+    const double slice = std::clamp((top - d.dot(toSun)) * inverseAlong, 0.0, double(points[2] - 1));
+    return std::max(0.0, double(depth.at(Vec3d(column1, column2, slice))));
 }
 
 DenseGrid CloudLighting::transmittanceTowards(const DenseGrid& coarse, const Vec3d& towards) const
@@ -132,11 +224,8 @@ bool CloudLighting::clip(const Vec3d& origin, const Vec3d& dir, double& tMin, do
 double CloudLighting::sunTransmittance(const Vec3d& p) const
 {
     if (mEmpty) return 1.0;
-    double tMin = 0.0, tMax = std::numeric_limits<double>::max();
-    if (!clip(p, mToSun, tMin, tMax)) return 1.0;
-    // Outside the box, what matters is where the sun's ray enters it.
-    const Vec3d q = mBounds.isInside(p) ? p : p + mToSun * tMin;
-    return std::clamp(double(mSunTransmittance.at(q)), 0.0, 1.0);
+    const double depth = mSunDepth.at(p, mToSun);
+    return depth > 0.0 ? std::exp(-mExtinction * depth) : 1.0;
 }
 
 openvdb::FloatGrid::Ptr CloudLighting::skyLitDensity() const

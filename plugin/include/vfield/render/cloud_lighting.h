@@ -3,7 +3,10 @@
 /// A frame's density grid (world space) and the light that reaches into it:
 /// the sun's and the sky's transmittance through the cloud, computed once per
 /// frame into grids over the cloud's box (coarser than the density), so that a
-/// shading sample costs one lookup instead of a march to the light. Shared by
+/// shading sample costs one lookup instead of a march to the light; and, for
+/// surfaces, the cloud's optical depth towards the sun on a lattice aligned
+/// with the sun's rays, fine across them, so that a cloud's shadow is as sharp
+/// as its density. Shared by
 /// the back-ends: vfield's renderer shades with it, the POV-Ray export writes
 /// the sky-lit density from it.
 
@@ -42,7 +45,10 @@ public:
     /// Transmittance of the cloud alone from p towards the sun (1 where no
     /// cloud is in the way), for surfaces: their shadows from other surfaces
     /// come from their own shadow rays, so a surface beside a shadowed grid
-    /// point is not darkened by interpolation.
+    /// point is not darkened by interpolation. Read from the sun-aligned
+    /// depth map, whatever the light grids' cells: read from those on a face
+    /// of a large box (a cloud with a stray wisp far away), a small cloud's
+    /// shadow came out as nested squares of their size.
     double sunTransmittance(const Vec3d& p) const;
     /// What the cloud's own samples read, trilinearly from the light grids,
     /// unclamped: the sun's transmittance through the cloud, zero where a
@@ -55,12 +61,30 @@ public:
     openvdb::FloatGrid::Ptr skyLitDensity() const;
 
 private:
+    /// Optical depth from a point towards the sun at the points of a lattice
+    /// aligned with the sun: columns across the sun's rays (axes `across1`,
+    /// `across2`, perpendicular to it, from `acrossMin`) and slices along them,
+    /// down from the box's point nearest the sun (`top`, along toSun from
+    /// `centre`). Depth accumulates smoothly along a ray, so slices are coarse
+    /// and columns fine.
+    struct SunDepth {
+        Vec3d centre{0.0}, across1{1, 0, 0}, across2{0, 0, 1};
+        double acrossMin1 = 0.0, acrossMin2 = 0.0, top = 0.0;
+        double inverseAcross = 1.0, inverseAlong = 1.0;
+        DenseGrid depth; ///< lattice coordinates: (column, column, slice)
+
+        double at(const Vec3d& p, const Vec3d& toSun) const;
+    };
+
+    /// The depth map marched through `density` (a coarse density).
+    SunDepth sunDepthTowardsSun(const DenseGrid& density) const;
     /// The cloud's transmittance towards a light (unit direction) at the
     /// points of the light grid, through the coarse density (cell-centred on it).
     DenseGrid transmittanceTowards(const DenseGrid& coarse, const Vec3d& towards) const;
 
     openvdb::FloatGrid::ConstPtr mDensity;
-    DenseGrid mSunTransmittance, mSunInCloud, mSkyTransmittance;
+    DenseGrid mSunInCloud, mSkyTransmittance;
+    SunDepth mSunDepth;
     BBoxd mBounds;
     Vec3d mToSun;
     double mExtinction;
