@@ -2,9 +2,9 @@
 
 #include <vfield/core/noise.h>
 #include <vfield/core/options.h>
+#include <vfield/core/trilinear_sampler.h>
 
 #include <openvdb/tools/Filter.h>
-#include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/Morphology.h>
 #include <openvdb/tree/LeafManager.h>
 
@@ -232,15 +232,10 @@ openvdb::FloatGrid::Ptr detailedDensity(const openvdb::FloatGrid& density, const
     using FineLeaf = openvdb::FloatTree::LeafNodeType;
     std::vector<std::vector<std::unique_ptr<FineLeaf>>> fineLeaves(coarseLeaves.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, coarseLeaves.size()), [&](const tbb::blocked_range<std::size_t>& range) {
-        // A sampler keeps a pointer to its accessor: the accessors must outlive them.
-        const openvdb::FloatGrid::ConstAccessor densityAccessor = density.getConstAccessor();
-        std::vector<openvdb::Vec3SGrid::ConstAccessor> restAccessors;
-        for (const auto& rest : rests) restAccessors.push_back(rest->getConstAccessor());
-        openvdb::tools::GridSampler<openvdb::FloatGrid::ConstAccessor, openvdb::tools::BoxSampler> densityAt(densityAccessor,
-                                                                                                             density.transform());
-        using RestSampler = openvdb::tools::GridSampler<openvdb::Vec3SGrid::ConstAccessor, openvdb::tools::BoxSampler>;
-        std::vector<RestSampler> restAt;
-        for (std::size_t c = 0; c < rests.size(); ++c) restAt.emplace_back(restAccessors[c], rests[c]->transform());
+        // The rest grids share the density's transform (the splat's).
+        TrilinearSampler<openvdb::FloatTree> densityAt(density.tree());
+        std::vector<TrilinearSampler<openvdb::Vec3STree>> restAt;
+        for (const auto& rest : rests) restAt.emplace_back(rest->tree());
         for (std::size_t n = range.begin(); n != range.end(); ++n) {
             std::map<openvdb::Coord, std::unique_ptr<FineLeaf>> leaves; // ordered: added to the tree in a fixed order
             for (auto voxel = coarseLeaves[n]->cbeginValueOn(); voxel; ++voxel) {
@@ -249,13 +244,14 @@ openvdb::FloatGrid::Ptr detailedDensity(const openvdb::FloatGrid& density, const
                     for (int j = 0; j < ratio; ++j)
                         for (int k = 0; k < ratio; ++k) {
                             const openvdb::Coord f(ratio * c.x() + i, ratio * c.y() + j, ratio * c.z() + k);
-                            const openvdb::Vec3d p = transform->indexToWorld(f);
-                            const double rho = densityAt.wsSample(p);
+                            const openvdb::Vec3d coarseIndex = density.transform().worldToIndex(transform->indexToWorld(f));
+                            const double rho = densityAt.atIndex(coarseIndex);
                             if (!(rho > 0.0)) continue;
                             float g = 0.0f;
                             for (std::size_t r = 0; r < channels.size(); ++r)
                                 g += channels[r].weight *
-                                     fbm(noise, openvdb::Vec3f(restAt[r].wsSample(p)) * frequency + channels[r].noiseOffset,
+                                     fbm(noise,
+                                         openvdb::Vec3f(restAt[r].atIndex(coarseIndex)) * frequency + channels[r].noiseOffset,
                                          fractal);
                             g *= inverseNorm;
                             // The noise scales the edge threshold rather than offsetting it, so a

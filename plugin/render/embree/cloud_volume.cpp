@@ -1,6 +1,7 @@
 #include <vfield/render/embree/cloud_volume.h>
 
-#include <openvdb/tools/Interpolation.h>
+#include <vfield/core/trilinear_sampler.h>
+
 #include <openvdb/tools/RayIntersector.h>
 
 #include <tbb/enumerable_thread_specific.h>
@@ -19,17 +20,6 @@ struct CloudVolume::EmptySpaceSkipper {
     Intersector master;
     tbb::enumerable_thread_specific<Intersector> perThread; ///< copies share the master's tree
 };
-
-namespace {
-
-double sampleDensity(openvdb::FloatGrid::ConstAccessor& accessor, const openvdb::math::Transform& transform, const Vec3d& p)
-{
-    float value;
-    openvdb::tools::BoxSampler::sample(accessor, transform.worldToIndex(p), value);
-    return value;
-}
-
-} // namespace
 
 CloudVolume::CloudVolume(const CloudLighting& lighting, const MediumSettings& medium, const IntegratorSettings& integrator)
     : mLighting(lighting), mExtinction(medium.extinction), mAlbedo(medium.albedo), mStep(integrator.volumeStep)
@@ -64,7 +54,7 @@ CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, d
     Segment segment;
     if (!mLighting.clip(origin, dir, tMin, tMax)) return segment;
     const openvdb::FloatGrid& densityGrid = mLighting.density();
-    openvdb::FloatGrid::ConstAccessor density = densityGrid.getConstAccessor();
+    TrilinearSampler<openvdb::FloatTree> density(densityGrid.tree());
     const openvdb::math::Transform& densityTransform = densityGrid.transform();
     // Sunlight travels along -toSun and leaves towards the origin along -dir:
     // the angle between the two is that between dir and toSun.
@@ -89,7 +79,7 @@ CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, d
             nextStep = k + 1.0;
             const double dt = std::min(mStep, tMax - t);
             const Vec3d p = origin + dir * (t + jitter * dt);
-            const double rho = sampleDensity(density, densityTransform, p);
+            const double rho = density.atIndex(densityTransform.worldToIndex(p));
             if (rho <= 0.0) continue;
             const double stepTransmittance = std::exp(-mExtinction * rho * dt);
             const float sunT = mLighting.sunInCloud(p), skyT = mLighting.skyTransmittance(p);

@@ -1,0 +1,69 @@
+#include <vfield/core/trilinear_sampler.h>
+
+#include <openvdb/tools/Interpolation.h>
+
+#include <catch2/catch.hpp>
+
+#include <random>
+
+using namespace vfield;
+
+namespace {
+
+/// Leaves of random values beside each other (reads across their faces), a
+/// constant tile (reads from a node without leaves) and the background
+/// around them, at negative and positive coordinates.
+template<typename GridT, typename MakeValue>
+typename GridT::Ptr patchworkGrid(MakeValue makeValue)
+{
+    auto grid = GridT::create(makeValue(0.0));
+    std::mt19937_64 random(11);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    auto accessor = grid->getAccessor();
+    for (const openvdb::CoordBBox& box :
+         {openvdb::CoordBBox({-8, -8, -8}, {8, 11, 7}), openvdb::CoordBBox({20, 3, -30}, {27, 9, -25})})
+        for (auto c = box.begin(); c; ++c) accessor.setValueOn(*c, makeValue(unit(random)));
+    grid->tree().addTile(/*level=*/1, openvdb::Coord(128, 0, 0), makeValue(0.75), /*active=*/true);
+    return grid;
+}
+
+template<typename GridT>
+void requireSameAsBoxSampler(const GridT& grid)
+{
+    TrilinearSampler<typename GridT::TreeType> sampler(grid.tree());
+    const auto accessor = grid.getConstAccessor();
+    std::mt19937_64 random(5);
+    // Points within and around the leaves, the tile's box and the background between.
+    const std::vector<openvdb::BBoxd> regions{{{-12, -12, -12}, {12, 14, 12}},
+                                              {{18, 1, -32}, {30, 12, -22}},
+                                              {{120, -4, -4}, {150, 20, 20}},
+                                              {{-40, -40, -40}, {160, 40, 40}}};
+    for (const openvdb::BBoxd& region : regions) {
+        std::uniform_real_distribution<double> x(region.min()[0], region.max()[0]), y(region.min()[1], region.max()[1]),
+            z(region.min()[2], region.max()[2]);
+        for (int n = 0; n < 20000; ++n) {
+            const openvdb::Vec3d p(x(random), y(random), z(random));
+            typename GridT::ValueType expected;
+            openvdb::tools::BoxSampler::sample(accessor, p, expected);
+            const auto actual = sampler.atIndex(p);
+            INFO("at " << p);
+            REQUIRE(actual == expected);
+        }
+    }
+}
+
+} // namespace
+
+TEST_CASE("trilinear sampler: reads what BoxSampler reads, bit for bit, inside leaves, across them, in tiles and the background",
+          "[core]")
+{
+    SECTION("float")
+    {
+        requireSameAsBoxSampler(*patchworkGrid<openvdb::FloatGrid>([](double v) { return float(v); }));
+    }
+    SECTION("vector")
+    {
+        requireSameAsBoxSampler(
+            *patchworkGrid<openvdb::Vec3SGrid>([](double v) { return openvdb::Vec3s(float(v), float(2.0 * v), float(v * v)); }));
+    }
+}
