@@ -1,8 +1,8 @@
 #include <vfield/render/embree/path_tracer.h>
 
+#include <vfield/core/trilinear_sampler.h>
 #include <vfield/render/embree/camera_samples.h>
 
-#include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/Statistics.h>
 
 #include <algorithm>
@@ -34,9 +34,12 @@ double sampleHenyeyGreenstein(double g, double u)
     return std::clamp((1.0 + g * g - s * s) / (2.0 * g), -1.0, 1.0);
 }
 
-/// The cloud as a path sees it, read through one thread's accessor.
+/// The cloud as a path sees it, read through one thread's sampler.
 class Medium {
 public:
+    /// Reads the density as the fast integrator's march does.
+    using Density = TrilinearSampler<openvdb::FloatTree>;
+
     Medium(const CloudVolume* volume, const MediumSettings& settings) : mExtinction(settings.extinction)
     {
         if (!volume || volume->empty()) return;
@@ -45,12 +48,12 @@ public:
         mMajorant = mExtinction * std::max(0.0f, range.max());
     }
     bool present() const { return mMajorant > 0.0; }
-    openvdb::FloatGrid::ConstAccessor accessor() const { return mLighting->density().getConstAccessor(); }
+    Density density() const { return Density(mLighting->density().tree()); }
 
     /// Delta tracking along origin + t dir (dir unit), t in [tMin, tMax): the
     /// distance of the first real collision, if there is one.
-    std::optional<double> collision(openvdb::FloatGrid::ConstAccessor& density, const Vec3d& origin, const Vec3d& dir,
-                                    double tMin, double tMax, SampleRandom& random) const
+    std::optional<double> collision(Density& density, const Vec3d& origin, const Vec3d& dir, double tMin, double tMax,
+                                    SampleRandom& random) const
     {
         if (!present() || !mLighting->clip(origin, dir, tMin, tMax)) return std::nullopt;
         for (double t = tMin;;) {
@@ -62,8 +65,8 @@ public:
 
     /// Ratio tracking: an unbiased estimate of the transmittance along
     /// origin + t dir, t in [tMin, tMax).
-    double transmittance(openvdb::FloatGrid::ConstAccessor& density, const Vec3d& origin, const Vec3d& dir, double tMin,
-                         double tMax, SampleRandom& random) const
+    double transmittance(Density& density, const Vec3d& origin, const Vec3d& dir, double tMin, double tMax,
+                         SampleRandom& random) const
     {
         if (!present() || !mLighting->clip(origin, dir, tMin, tMax)) return 1.0;
         double transmittance = 1.0;
@@ -79,11 +82,9 @@ public:
     }
 
 private:
-    double sigmaT(openvdb::FloatGrid::ConstAccessor& density, const Vec3d& p) const
+    double sigmaT(Density& density, const Vec3d& p) const
     {
-        float value;
-        openvdb::tools::BoxSampler::sample(density, mLighting->density().transform().worldToIndex(p), value);
-        return mExtinction * std::max(0.0f, value);
+        return mExtinction * std::max(0.0f, density.atIndex(mLighting->density().transform().worldToIndex(p)));
     }
 
     const CloudLighting* mLighting = nullptr;
@@ -102,10 +103,10 @@ RenderImage renderReference(const FrameToRender& f)
     const int maxEvents = s.integrator.maxBounces;
 
     return renderCameraSamples(f, [&] {
-        // An accessor per tile: they cache tree nodes and are not shared between threads.
-        using Accessor = std::optional<openvdb::FloatGrid::ConstAccessor>;
-        return [&, density = medium.present() ? Accessor(medium.accessor())
-                                              : Accessor()](const Vec3d& cameraDir, SampleRandom& random, uint32_t) mutable {
+        // A sampler per tile: it caches tree nodes and is not shared between threads.
+        using Density = std::optional<Medium::Density>;
+        return [&, density = medium.present() ? Density(medium.density()) : Density()](const Vec3d& cameraDir,
+                                                                                       SampleRandom& random, uint32_t) mutable {
             // The sun's light reaching p (offset off any surface) through surfaces and cloud.
             const auto sunReaching = [&](const Vec3d& p) {
                 if (f.surfaces->occluded(p, toSun, 0.0, kInfinity)) return 0.0;
