@@ -271,8 +271,11 @@ TEST_CASE("cli: render refuses bad simulations with one line and writes no image
     CHECK(again.err.find("rendered 0 frames") != std::string::npos);
     CHECK(again.err.find("skipped 1") != std::string::npos);
     CHECK(std::filesystem::last_write_time(dir + "/img/frame.0002.png") == written);
-    // A frame simulated again since (an edited scene is simulated afresh) is rendered again.
-    std::filesystem::last_write_time(dir + "/sim/density.0002.vdb", written + std::chrono::seconds(1));
+    // A frame simulated again since (an edited scene is simulated afresh) is rendered again. The
+    // image is made older than the simulation rather than the simulation newer than now: a frame
+    // rendered within that second would still be older than the simulation, and rendered again.
+    std::filesystem::last_write_time(dir + "/img/frame.0002.png",
+                                     std::filesystem::last_write_time(dir + "/sim/density.0002.vdb") - std::chrono::seconds(1));
     CHECK(render(dir + "/sim").err.find("rendered 1 frame") != std::string::npos);
     // A frame rendered with other settings is rendered again, then kept.
     const auto renderAt = [&](const std::string& size) {
