@@ -53,6 +53,19 @@ TEST_CASE("cli: probe prints the octree's force at each point", "[cli]")
                        "0.75,0.75,0.75,11.5470047,11.5470047,11.5470047,2,1\n"
                        "2,2,2,0,0,0,0,0\n");
     CHECK(probe.err.empty());
+    // Split down to level 3, where the growths part: strength 3 x 3 x boost 10
+    // (linear) against 3 x 2^(3 - 1) x 10 (doubling), along the diagonal.
+    const auto probeAtLevel3 = [&](const std::string& growth) {
+        return vfieldCli("probe " + vfield::test::dataPath("cube_quads.obj") +
+                             " --margin 0 --max-per-leaf 1 --max-level 3 --strength 3 --growth " + growth + " --points " + dir +
+                             "/points.csv --quiet",
+                         dir)
+            .out;
+    };
+    CHECK(probeAtLevel3("linear").find("0.75,0.75,0.75,51.961525,51.961525,51.961525,3,1\n") != std::string::npos);
+    CHECK(probeAtLevel3("doubling").find("0.75,0.75,0.75,69.2820282,69.2820282,69.2820282,3,1\n") != std::string::npos);
+    CHECK(vfieldCli("probe " + vfield::test::dataPath("cube_quads.obj") + " --growth cubic --points " + dir + "/points.csv", dir)
+              .exitCode != 0);
 }
 
 TEST_CASE("cli: an inside-out mesh is oriented outward with a warning, and --flip-normals turns it", "[cli]")

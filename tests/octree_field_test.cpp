@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <set>
 
 using namespace vfield;
 using Catch::Matchers::WithinAbs;
@@ -70,6 +71,30 @@ TEST_CASE("octree field: magnitude is strength x level x surface boost", "[field
     requireForce(field.sample({0.2, 0.2, 0.0}), {0, 0, 10}, 1, true);
     CHECK(field.magnitude(3, false) == 7.5);
     CHECK(field.magnitude(3, true) == 30.0);
+}
+
+TEST_CASE("octree field: a doubling growth makes each level twice as strong as its parent", "[field]")
+{
+    // The plane of the test below: leaves at every level from 3 to 6.
+    TriangleMesh plane;
+    for (int i = 0; i < 16; ++i)
+        for (int j = 0; j < 16; ++j) test::addSquareFacingUp(plane, i, j, i + 1, j + 1, 0.37);
+    OctreeFieldOptions options;
+    options.maxLevel = 6;
+    options.strength = 0.5;
+    options.surfaceBoost = 3.0;
+    options.growth = MagnitudeGrowth::Doubling;
+    const OctreeField field = OctreeField::build(plane, options);
+    std::set<int> levels;
+    for (const FieldLeaf& leaf : field.leaves()) {
+        levels.insert(leaf.level);
+        const double expected = 0.5 * std::ldexp(1.0, leaf.level - 1) * (leaf.isSurface ? 3.0 : 1.0);
+        CHECK(double(leaf.force.length()) == Approx(expected).epsilon(1e-6));
+    }
+    CHECK(levels.size() >= 4);
+    CHECK(field.magnitude(6, false) == 16.0);
+    CHECK(magnitudeAtLevel(MagnitudeGrowth::Linear, 0.5, 6.0) == 3.0);
+    CHECK(magnitudeAtLevel(MagnitudeGrowth::Doubling, 0.5, 2.5) == Approx(0.5 * std::sqrt(8.0)));
 }
 
 TEST_CASE("octree field: outside the root the force is zero and the level 0", "[field]")

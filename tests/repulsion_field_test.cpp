@@ -136,6 +136,18 @@ TEST_CASE("repulsion field: the distance field pushes along the distance's gradi
     CHECK(far > 0.2);
 }
 
+TEST_CASE("repulsion field: with a doubling growth the distance field pushes as side / distance", "[repulsion]")
+{
+    // strength x 2^(level - 1) at the level 1 + log2(side / d): strength x side / d, side 4.
+    RepulsionOptions options = sphereField(RepulsionMethod::Distance);
+    options.field.growth = MagnitudeGrowth::Doubling;
+    const auto field = RepulsionField::build(unitSphere(), options);
+    for (const double d : {0.1, 0.25, 0.5, 0.8}) {
+        INFO("distance " << d);
+        CHECK(forceAt(*field, Vec3d(0.0, 1.0 + d, 0.0)).length() == Approx(4.0 / d).epsilon(0.05));
+    }
+}
+
 TEST_CASE("repulsion field: a potential flow carries the wind around a sphere, never into it", "[repulsion]")
 {
     const Vec3d wind(0.0, 0.0, 1.0);

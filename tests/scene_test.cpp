@@ -31,11 +31,20 @@ TEST_CASE("scene: defaults fill everything but the objects", "[scene]")
 
 TEST_CASE("scene: the shipped scenes parse", "[scene]")
 {
-    for (const char* name : {"cloud_over_terrain.json", "canyon_flythrough.json", "crossing_flights.json"}) {
+    for (const char* name : {"cloud_over_terrain.json", "cloud_bank.json", "canyon_flythrough.json", "crossing_flights.json",
+                             "plane_through_cloud.json"}) {
         INFO(name);
         const Scene scene = loadScene(std::string(VFIELD_SCENES_DIR) + "/" + name);
         CHECK_FALSE(scene.simulation.objects.empty());
     }
+    // The bank's terrain field doubles; a growth of another name is refused with its JSON path.
+    const Scene bank = loadScene(std::string(VFIELD_SCENES_DIR) + "/cloud_bank.json");
+    CHECK(bank.simulation.objects.at(0).repulsion->field.growth == MagnitudeGrowth::Doubling);
+    CHECK_THROWS_WITH(
+        parseScene(R"({"version": 1, "objects": [{"name": "g", "mesh": {"box": {"min": [0, 0, 0], "max": [1, 1, 1]}},
+                                                              "repulsion": {"growth": "cubic"}}]})",
+                   "s.json"),
+        Catch::Contains("/objects/0/repulsion/growth"));
 }
 
 TEST_CASE("scene: bad values are refused with their JSON path", "[scene]")

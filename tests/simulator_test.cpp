@@ -12,9 +12,11 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <random>
 #include <sstream>
@@ -287,6 +289,72 @@ TEST_CASE("showcase: the cloud squeezes through the pass and pours down beyond i
     CHECK(frame(240).centroid[0] > 60.0);
     CHECK(bottomBeyond < bottomInPass - 8.0);
     CHECK(frame(240).alive > 0.99 * 4000);
+}
+
+TEST_CASE("showcase: the cloud bank climbs the ridge along the ground, crosses it and sinks beyond, without a penetration",
+          "[sim][showcase]")
+{
+    const Scene scene = test::showcaseAtTestResolution("cloud_bank.json", 4000, 240);
+    const TerrainOptions& terrain = scene.simulation.objects.at(0).mesh.terrain;
+    const double crestX = terrain.carves.at(0).path.at(0)[0]; // the ridge runs along z there
+    Simulator sim(scene.simulation);
+    const ClearanceProbe probe(sim);
+    // The particles upwind of the ridge's top (x below crestX - 20) and beyond
+    // it (x above crestX + 20): how many, their mean height above the ground
+    // below them and their mean altitude.
+    struct Band {
+        std::size_t count = 0;
+        double aboveGround = 0.0, altitude = 0.0;
+    };
+    double highest = 0.0; // the highest altitude any particle reached
+    const auto bands = [&] {
+        std::array<Band, 2> b;
+        for (const Vec3f& p : sim.particles().position) {
+            highest = std::max(highest, double(p[1]));
+            if (std::abs(p[0] - crestX) <= 20.0) continue;
+            Band& band = b[p[0] < crestX ? 0 : 1];
+            ++band.count;
+            band.aboveGround += p[1] - terrainHeight(terrain, p[0], p[2]);
+            band.altitude += p[1];
+        }
+        for (Band& band : b)
+            if (band.count > 0) {
+                band.aboveGround /= double(band.count);
+                band.altitude /= double(band.count);
+            }
+        return b;
+    };
+    std::map<int, std::array<Band, 2>> at{{1, bands()}};
+    double minimumClearance = std::numeric_limits<double>::max();
+    uint64_t penetrations = 0;
+    for (int frame = 2; frame <= 240; ++frame) {
+        sim.advanceFrame();
+        const ClearanceStats stats = probe.measureParticles();
+        minimumClearance = std::min(minimumClearance, stats.minimum);
+        penetrations += stats.penetrations;
+        if (frame % 40 == 0) at[frame] = bands();
+    }
+    double crestHeight = 0.0; // the ridge's highest point along its line
+    for (double z = -200.0; z <= 200.0; z += 1.0) crestHeight = std::max(crestHeight, terrainHeight(terrain, crestX, z));
+    const Band &start = at[1][0], &climbing = at[120][0], &beyond = at[200][1], &end = at[240][1];
+    INFO("upwind at frame 1: " << start.count << " particles at altitude " << start.altitude << "; at frame 120: "
+                               << climbing.count << ", " << climbing.aboveGround << " above the ground at altitude "
+                               << climbing.altitude << "; beyond at frame 200: " << beyond.count << " at altitude "
+                               << beyond.altitude << "; at frame 240: " << end.count << " at altitude " << end.altitude
+                               << " (crest " << crestHeight << "), " << end.aboveGround << " above the ground; highest "
+                               << highest << "; clearance " << minimumClearance);
+    CHECK(penetrations == 0);
+    CHECK(minimumClearance > 0.0);
+    CHECK(start.count == sim.particles().size()); // the bank starts upwind of the ridge
+    // Climbing the windward slope, it rises with the ground and stays close to it ...
+    CHECK(climbing.altitude > start.altitude + 8.0);
+    CHECK(climbing.aboveGround < 15.0);
+    // ... crosses the top, and sinks down the far side, below the crest.
+    CHECK(end.count > 0.99 * double(sim.particles().size()));
+    CHECK(end.altitude < beyond.altitude - 3.0);
+    CHECK(end.altitude < crestHeight);
+    // Nothing is flung skyward (a field growing linearly with a surface boost of 20 threw plumes 100 units up).
+    CHECK(highest < crestHeight + 40.0);
 }
 
 TEST_CASE("showcase: the octree and distance fields keep the cloud off the terrain, a potential flow hugs it",

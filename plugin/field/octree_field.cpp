@@ -34,6 +34,13 @@ void readOctreeFieldKeys(JsonObject& o, OctreeFieldOptions& options)
     options.flipNormals = o.boolean("flipNormals", options.flipNormals);
     options.splitRule =
         o.choice("splitRule", "normalCone", {"normalCone", "paper"}) == "paper" ? SplitRule::Paper : SplitRule::NormalCone;
+    options.growth =
+        o.choice("growth", "linear", {"linear", "doubling"}) == "doubling" ? MagnitudeGrowth::Doubling : MagnitudeGrowth::Linear;
+}
+
+double magnitudeAtLevel(MagnitudeGrowth growth, double strength, double level)
+{
+    return growth == MagnitudeGrowth::Linear ? strength * level : strength * std::exp2(level - 1.0);
 }
 
 double OctreeField::cellSize(int level) const { return mCellSize[level]; }
@@ -50,7 +57,7 @@ double OctreeField::boundary(int axis, uint32_t index, int level) const
 
 double OctreeField::magnitude(int level, bool isSurface) const
 {
-    return mOptions.strength * level * (isSurface ? mOptions.surfaceBoost : 1.0);
+    return magnitudeAtLevel(mOptions.growth, mOptions.strength, level) * (isSurface ? mOptions.surfaceBoost : 1.0);
 }
 
 Vec3f OctreeField::forceOf(const Node& node) const { return node.direction * float(magnitude(node.level, node.isSurface)); }

@@ -204,7 +204,8 @@ void GridRepulsion::buildDistance(const TriangleMesh& mesh)
                 continue;
             }
             direction.normalize();
-            const double magnitude = strength * (1.0 + std::log2(mSide / std::max(d, mVoxel))) * (d < mVoxel ? boost : 1.0);
+            const double level = 1.0 + std::log2(mSide / std::max(d, mVoxel));
+            const double magnitude = magnitudeAtLevel(mOptions.field.growth, strength, level) * (d < mVoxel ? boost : 1.0);
             it.setValue(openvdb::Vec3s(direction * magnitude));
             levels.setValueOnly(it.pos(), levelAt(d));
         }

@@ -247,6 +247,7 @@ void add(ContentHash& h, const OctreeFieldOptions& o)
     add(h, o.surfaceBoost);
     add(h, int64_t(o.flipNormals));
     add(h, int64_t(o.splitRule));
+    add(h, int64_t(o.growth));
 }
 
 void add(ContentHash& h, const RepulsionOptions& o)

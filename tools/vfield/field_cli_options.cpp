@@ -20,7 +20,17 @@ void addFieldOptions(CLI::App& command, FieldCliOptions& o)
     command.add_option("--max-per-leaf", o.octree.maxPerLeaf, "Split a node holding more triangles than this (the paper's N)")
         ->capture_default_str();
     command.add_option("--max-level", o.octree.maxLevel, "Deepest octree level; the root is level 1")->capture_default_str();
-    command.add_option("--strength", o.octree.strength, "Force magnitude per level")->capture_default_str();
+    command.add_option("--strength", o.octree.strength, "Force magnitude at level 1, and per level when it grows linearly")
+        ->capture_default_str();
+    command
+        .add_option_function<std::string>(
+            "--growth",
+            [&o](const std::string& text) {
+                o.octree.growth = text == "doubling" ? MagnitudeGrowth::Doubling : MagnitudeGrowth::Linear;
+            },
+            "How the magnitude grows with the level: linear (strength x level, the paper's) or doubling (strength x "
+            "2^(level - 1)) [default: linear]")
+        ->check(CLI::IsMember({"linear", "doubling"}));
     command.add_option("--surface-boost", o.octree.surfaceBoost, "Magnitude factor in leaves holding triangles")
         ->capture_default_str();
     command.add_flag("--flip-normals", o.octree.flipNormals,

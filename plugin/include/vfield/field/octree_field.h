@@ -18,7 +18,9 @@
 ///   normalized average of the unit normals of the triangles overlapping it. A
 ///   leaf without triangles, or a node whose average is shorter than 1e-9,
 ///   takes its parent's direction; the root's fallback is zero.
-/// - Magnitude: strength x level, times surfaceBoost in leaves holding triangles.
+/// - Magnitude: strength x level (MagnitudeGrowth::Linear, the paper's), or
+///   strength x 2^(level - 1) (Doubling), times surfaceBoost in leaves holding
+///   triangles.
 /// - A point's force is that of the leaf containing it: cells are half-open
 ///   [min, max) per axis, closed on the root's max faces; outside the root the
 ///   force is zero and the level 0.
@@ -40,19 +42,37 @@ enum class SplitRule {
     Paper,      ///< while it holds more than maxPerLeaf triangles: the paper's rule exactly
 };
 
+/// How a node's magnitude grows with its level.
+enum class MagnitudeGrowth {
+    /// strength x level: the paper's. Under a steady pull (gravity) a cloud
+    /// rests where the magnitude first exceeds the pull, as far from the
+    /// surface as a cell of that level is large: a thick, stepped cushion.
+    Linear,
+    /// strength x 2^(level - 1): twice as strong in a cell half as large, as a
+    /// potential's force grows as 1 / distance; the cushion is a few cells
+    /// thin and follows the ground, and no surface jump is needed to stop what
+    /// comes close (a surfaceBoost of 20 flings particles off it instead).
+    Doubling,
+};
+
+/// The magnitude at a level (a fraction for the distance method's continuous
+/// level), before any surface boost.
+double magnitudeAtLevel(MagnitudeGrowth growth, double strength, double level);
+
 struct OctreeFieldOptions {
     /// Dead space between the mesh's bounding box and the root cube on every
     /// side, object-space units (0..1e12). Unset: 10% of the largest extent.
     std::optional<double> margin;
     int maxPerLeaf = 6;         ///< the paper's N: a node with more triangles is split (1..2^20)
     int maxLevel = 8;           ///< deepest level; the root is level 1 (1..20)
-    double strength = 1.0;      ///< magnitude per level, acceleration units (0..1e12)
+    double strength = 1.0;      ///< magnitude at level 1, and per level (Linear), acceleration units (0..1e12)
     double surfaceBoost = 10.0; ///< magnitude factor in leaves that hold triangles (1..1e12)
     /// Build from the triangles' reversed normals: the field pushes into the
     /// mesh's other side (a closed mesh meant to hold things inside it, or an
     /// open sheet wound the wrong way).
     bool flipNormals = false;
     SplitRule splitRule = SplitRule::NormalCone;
+    MagnitudeGrowth growth = MagnitudeGrowth::Linear;
 
     /// Throws OptionError naming the first option out of range.
     void validate() const;

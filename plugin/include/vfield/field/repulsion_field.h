@@ -9,11 +9,11 @@
 /// - distance: from the mesh's signed distance d (OpenVDB
 ///   meshToSignedDistanceField near the surface, extended through the root
 ///   cube by fast sweeping). Direction: the distance's gradient (away from
-///   the surface). Magnitude: strength x (1 + log2(side / max(d, voxel))), the
-///   level an octree cell as large as the distance would have, so the two
-///   methods push alike at a given distance; times surfaceBoost within a voxel
-///   of the surface and inside (three voxels deep). Like the octree's, it
-///   fills the root cube.
+///   the surface). Magnitude: the octree's (its growth included) at level
+///   1 + log2(side / max(d, voxel)), the level an octree cell as large as the
+///   distance would have, so the two methods push alike at a given distance;
+///   times surfaceBoost within a voxel of the surface and inside (three
+///   voxels deep). Like the octree's, it fills the root cube.
 /// - potentialFlow: the clouds' wind (the uniform fields acting on every cloud
 ///   everywhere, gravity included) flowing around the mesh instead of into it
 ///   (OpenVDB tools::PotentialFlow: Laplace's equation for the potential in
@@ -51,7 +51,7 @@ const char* repulsionMethodName(RepulsionMethod method);
 
 struct RepulsionOptions {
     RepulsionMethod method = RepulsionMethod::Octree;
-    /// margin, strength, surfaceBoost and flipNormals apply to every method
+    /// margin, strength, growth, surfaceBoost and flipNormals apply to every method
     /// (potentialFlow: margin only, through the root's size); maxPerLeaf, maxLevel
     /// and splitRule shape the octree, and maxLevel sets the others' default voxel.
     OctreeFieldOptions field;
