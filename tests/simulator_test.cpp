@@ -353,7 +353,7 @@ TEST_CASE("showcase: the cloud bank climbs the ridge along the ground, crosses i
     CHECK(end.count > 0.99 * double(sim.particles().size()));
     CHECK(end.altitude < beyond.altitude - 3.0);
     CHECK(end.altitude < crestHeight);
-    // Nothing is flung skyward (a field growing linearly with a surface boost of 20 threw plumes 100 units up).
+    // Nothing is flung skyward (a field growing linearly with a surface boost of 20 threw plumes beyond this).
     CHECK(highest < crestHeight + 40.0);
 }
 
