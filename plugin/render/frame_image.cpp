@@ -5,6 +5,8 @@
 
 #include <OpenImageIO/imagebufalgo.h>
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -28,12 +30,11 @@ bool endsWith(const std::string& text, const std::string& tail)
 OIIO::ImageBuf toDisplay(const RenderImage& image)
 {
     OIIO::ImageBuf buf(OIIO::ImageSpec(image.width, image.height, 3, OIIO::TypeDesc::FLOAT));
-    for (int y = 0; y < image.height; ++y)
-        for (int x = 0; x < image.width; ++x) {
-            const float* p = &image.rgba[4 * (std::size_t(y) * image.width + x)];
-            const float rgb[3] = {linearToSrgb(p[0]), linearToSrgb(p[1]), linearToSrgb(p[2])};
-            buf.setpixel(x, y, rgb, 3);
-        }
+    float* display = static_cast<float*>(buf.localpixels()); // a new ImageBuf's pixels: contiguous, rows top-down
+    tbb::parallel_for(0, image.height, [&](int y) {
+        for (std::size_t i = std::size_t(y) * image.width; i < std::size_t(y + 1) * image.width; ++i)
+            for (int c = 0; c < 3; ++c) display[3 * i + c] = linearToSrgb(image.rgba[4 * i + c]);
+    });
     return buf;
 }
 
@@ -44,13 +45,13 @@ OIIO::ImageBuf toLinear(const RenderImage& image)
     spec.alpha_channel = 3;
     spec.z_channel = 4;
     OIIO::ImageBuf buf(spec);
-    for (int y = 0; y < image.height; ++y)
-        for (int x = 0; x < image.width; ++x) {
-            const std::size_t i = std::size_t(y) * image.width + x;
-            const float* p = &image.rgba[4 * i];
-            const float values[5] = {p[0], p[1], p[2], p[3], image.depth[i]};
-            buf.setpixel(x, y, values, 5);
+    float* linear = static_cast<float*>(buf.localpixels());
+    tbb::parallel_for(0, image.height, [&](int y) {
+        for (std::size_t i = std::size_t(y) * image.width; i < std::size_t(y + 1) * image.width; ++i) {
+            for (int c = 0; c < 4; ++c) linear[5 * i + c] = image.rgba[4 * i + c];
+            linear[5 * i + 4] = image.depth[i];
         }
+    });
     return buf;
 }
 
