@@ -300,3 +300,59 @@ TEST_CASE("reference: fast and reference agree within 10% on a constant-density 
     INFO("box lit from above: fast " << all.fast << ", reference " << all.reference << " +- " << all.referenceError);
     CHECK(all.relative() < 0.1);
 }
+
+TEST_CASE("reference: a cloud's shadow never brightens the ground and is as dark as the reference's", "[render][reference]")
+{
+    // A sphere of cloud seen from above, the sun high beside it: its shadow
+    // falls on the ground in view. The ground's pixels whose camera ray misses
+    // the sphere, compared with the same frame without the cloud, and those
+    // in its shadow (the ray from the ground to the sun runs at least 4 units
+    // through the sphere) with the reference's: thin, medium and thick.
+    const Vec3d toSun = Vec3d(0.5, 1.0, 0.3).unitSafe();
+    const auto scene = [&](float density) {
+        auto s = std::make_unique<FeatureScene>(uniformSphere(density), true, Vec3d(0, 40, 26), Vec3d(-4, 0, -2), toSun);
+        s->settings.medium.extinction = 0.5;
+        s->settings.medium.albedo = 0.95;
+        s->settings.medium.anisotropy = 0.6;
+        s->settings.image.width = 128;
+        s->settings.image.height = 72;
+        s->frame.camera = Camera::fromSettings(s->settings.camera, 128, 72);
+        return s;
+    };
+    const std::unique_ptr<FeatureScene> clear = scene(1e-6f);
+    const RenderImage without = clear->render(IntegratorKind::Fast, 1);
+    const int width = clear->settings.image.width, height = clear->settings.image.height;
+    std::vector<std::size_t> ground, shadow;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const Vec3d origin = clear->frame.camera.position(), dir = clear->frame.camera.direction(x + 0.5, y + 0.5);
+            SurfaceHit hit;
+            if (!clear->surfaces.intersect(origin, dir, 0.0, 1e30, hit) || chordThroughTheSphere(origin, dir) > 0.0) continue;
+            const std::size_t p = std::size_t(y) * width + x;
+            ground.push_back(p);
+            if (chordThroughTheSphere(hit.position, toSun) > 4.0) shadow.push_back(p);
+        }
+    REQUIRE(ground.size() > 1000);
+    REQUIRE(shadow.size() > 100);
+
+    for (const float density : {0.3f, 1.0f, 3.0f}) {
+        const std::unique_ptr<FeatureScene> cloudy = scene(density);
+        const RenderImage withCloud = cloudy->render(IntegratorKind::Fast, 1);
+        double brightest = 0.0; // the largest ratio of a ground pixel with the cloud to without it
+        for (std::size_t p : ground)
+            for (int c = 0; c < 3; ++c)
+                brightest = std::max(brightest, double(withCloud.rgba[4 * p + c] / without.rgba[4 * p + c]));
+        INFO("density " << density << ": the ground with the cloud, at its brightest: " << brightest
+                        << " x its light without it");
+        CHECK(brightest <= 1.0 + 1e-6);
+
+        const RenderImage fast = cloudy->render(IntegratorKind::Fast, 16);
+        const RenderImage a = cloudy->render(IntegratorKind::Reference, 64, 1),
+                          b = cloudy->render(IntegratorKind::Reference, 64, 2);
+        const double reference = 0.5 * (meanRadiance(a, shadow) + meanRadiance(b, shadow));
+        INFO("in the shadow: fast " << meanRadiance(fast, shadow) << ", reference " << reference << " +- "
+                                    << standardError(a, b, shadow) / std::sqrt(2.0) << ", unshadowed "
+                                    << meanRadiance(without, shadow));
+        CHECK(meanRadiance(fast, shadow) == Approx(reference).epsilon(0.1));
+    }
+}

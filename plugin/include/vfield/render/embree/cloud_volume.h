@@ -52,8 +52,6 @@ private:
         double skyScattering;  ///< a_sky^i
         MediumSettings medium; ///< with the phase's eccentricity scaled by c^i
     };
-    /// T + the octaves' sum of a^i (T^(b^i) - T), for a light seen through transmittance T.
-    double octaveSum(double transmittance) const;
     std::vector<Octave> mOctaves;
     double mExtinction, mAlbedo, mStep;
 };
