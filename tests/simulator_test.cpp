@@ -2,6 +2,7 @@
 #include "test_meshes.h"
 
 #include <vfield/core/vdb_file.h>
+#include <vfield/render/camera.h>
 #include <vfield/scene/run_metrics.h>
 #include <vfield/scene/simulation_run.h>
 #include <vfield/sim/clearance.h>
@@ -322,6 +323,19 @@ TEST_CASE("showcase: the cloud bank climbs the ridge along the ground, crosses i
             }
         return b;
     };
+    // How many particles the scene's camera has in its frame (1280x720).
+    const Camera camera = Camera::fromSettings(scene.render.camera, 1280, 720);
+    const auto inFrame = [&] {
+        std::size_t count = 0;
+        for (const Vec3f& p : sim.particles().position) {
+            const Vec3d d = Vec3d(p) - camera.position();
+            const double depth = d.dot(camera.forward());
+            count += depth > 0.0 && std::abs(d.dot(camera.right())) <= depth * camera.tanHalfFov() * camera.aspect() &&
+                     std::abs(d.dot(camera.up())) <= depth * camera.tanHalfFov();
+        }
+        return count;
+    };
+    std::size_t fewestInFrame = inFrame();
     std::map<int, std::array<Band, 2>> at{{1, bands()}};
     double minimumClearance = std::numeric_limits<double>::max();
     uint64_t penetrations = 0;
@@ -332,17 +346,19 @@ TEST_CASE("showcase: the cloud bank climbs the ridge along the ground, crosses i
         minimumClearance = std::min(minimumClearance, stats.minimum);
         penetrations += stats.penetrations;
         for (const Vec3f& p : sim.particles().position) highest = std::max(highest, double(p[1]));
+        fewestInFrame = std::min(fewestInFrame, inFrame());
         if (frame % 40 == 0) at[frame] = bands();
     }
     double crestHeight = 0.0; // the ridge's highest point along its line
     for (double z = -200.0; z <= 200.0; z += 1.0) crestHeight = std::max(crestHeight, terrainHeight(terrain, crestX, z));
     const Band &start = at[1][0], &climbing = at[120][0], &beyond = at[200][1], &end = at[240][1];
-    INFO("upwind at frame 1: " << start.count << " particles at altitude " << start.altitude << "; at frame 120: "
-                               << climbing.count << ", " << climbing.aboveGround << " above the ground at altitude "
-                               << climbing.altitude << "; beyond at frame 200: " << beyond.count << " at altitude "
-                               << beyond.altitude << "; at frame 240: " << end.count << " at altitude " << end.altitude
-                               << " (crest " << crestHeight << "), " << end.aboveGround << " above the ground; highest "
-                               << highest << "; clearance " << minimumClearance);
+    INFO("upwind at frame 1: " << start.count << " particles at altitude " << start.altitude
+                               << "; at frame 120: " << climbing.count << ", " << climbing.aboveGround
+                               << " above the ground at altitude " << climbing.altitude
+                               << "; beyond at frame 200: " << beyond.count << " at altitude " << beyond.altitude
+                               << "; at frame 240: " << end.count << " at altitude " << end.altitude << " (crest " << crestHeight
+                               << "), " << end.aboveGround << " above the ground; highest " << highest << "; clearance "
+                               << minimumClearance << "; in the camera's frame at least " << fewestInFrame);
     CHECK(penetrations == 0);
     CHECK(minimumClearance > 0.0);
     CHECK(start.count == sim.particles().size()); // the bank starts upwind of the ridge
@@ -355,6 +371,8 @@ TEST_CASE("showcase: the cloud bank climbs the ridge along the ground, crosses i
     CHECK(end.altitude < crestHeight);
     // Nothing is flung skyward (a field growing linearly with a surface boost of 20 threw plumes beyond this).
     CHECK(highest < crestHeight + 40.0);
+    // The whole bank is in view from the first frame to the last.
+    CHECK(fewestInFrame == sim.particles().size());
 }
 
 TEST_CASE("showcase: the octree and distance fields keep the cloud off the terrain, a potential flow hugs it",
