@@ -22,8 +22,7 @@ std::vector<Transform> bendingPath()
 CameraSettings behind(const Vec3d& offset)
 {
     CameraSettings settings;
-    settings.followObject = "airplane";
-    settings.followOffset = offset;
+    settings.follow = CameraFollow{"airplane", offset};
     return settings;
 }
 

@@ -138,8 +138,8 @@ TEST_CASE("cli: every subcommand has help", "[cli]")
     std::istringstream lines(top.out.substr(top.out.find("Subcommands:")));
     for (std::string line; std::getline(lines, line);)
         if (line.rfind("  ", 0) == 0) commands.push_back(line.substr(2, line.find(' ', 2) - 2));
-    CHECK(commands.size() == 13);
-    for (const char* name : {"compare", "metrics", "farm", "export-scene"})
+    CHECK(commands.size() == 14);
+    for (const char* name : {"compare", "metrics", "farm", "export-scene", "help"})
         CHECK(std::find(commands.begin(), commands.end(), name) != commands.end());
     for (const std::string& command : commands) {
         const Run help = vfieldCli(command + " --help", dir);
@@ -435,6 +435,60 @@ TEST_CASE("cli: --set changes scene values and names a bad override", "[cli][sce
     CHECK(simulate("--set /clouds/0/count=-5").err ==
           "vfield simulate: " + dir + "/s.json: /clouds/0/count: expected a positive integer, got -5\n");
     CHECK(simulate("--set /clouds/0/count").exitCode == 2);
+}
+
+TEST_CASE("cli: shorthands are --set of a documented pointer, checked with the scene", "[cli][scene]")
+{
+    const std::string dir = vfield::test::scratchDir("cli-shorthands");
+    std::ofstream(dir + "/s.json") << R"({"version": 1, "frames": {"start": 1, "end": 1, "fps": 24},
+      "objects": [{"name": "ground", "mesh": {"box": {"min": [-20, -2, -20], "max": [20, 0, 20]}}}],
+      "clouds": [{"count": 50, "center": [0, 6, 0], "radius": 2}], "render": {"resolution": [32, 18], "samplesPerPixel": 1}})";
+    const Run simulated = vfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim --repulsion-method distance -q", dir);
+    REQUIRE(simulated.exitCode == 0);
+    CHECK(vfield::test::readTextFile(dir + "/sim/stats.json").find("\"method\": \"distance\"") != std::string::npos);
+    CHECK(vfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim --repulsion-method sdf", dir).exitCode == 2);
+    // --spp 0 is /render/samplesPerPixel's error, named as the scene's.
+    const Run zero = vfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/img --spp 0", dir);
+    CHECK(zero.exitCode == 1);
+    CHECK(zero.err == "vfield render: " + dir + "/s.json: /render/samplesPerPixel: expected a positive integer, got 0\n");
+    const Run size = vfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/img --resolution 20000x10", dir);
+    CHECK(size.err.find("/render/resolution/0: expected a positive integer of at most 16384") != std::string::npos);
+    CHECK(vfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/img --resolution 20x", dir).exitCode == 2);
+    REQUIRE(vfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/img --resolution 24x12 -q", dir).exitCode ==
+            0);
+    OIIO::ImageBuf image(dir + "/img/frame.0001.png");
+    CHECK(image.spec().width == 24);
+}
+
+TEST_CASE("cli: --scene and --object draw an object's field as the scene makes it, the flags changing it", "[cli]")
+{
+    const std::string dir = vfield::test::scratchDir("cli-scene-object");
+    std::ofstream(dir + "/s.json") << R"({"version": 1, "objects": [
+      {"name": "cube", "mesh": {"file": ")" +
+                                          vfield::test::dataPath("cube_quads.obj") + R"("},
+       "repulsion": {"margin": 0, "maxPerLeaf": 1, "maxLevel": 3, "strength": 3, "growth": "doubling"}}]})";
+    std::ofstream(dir + "/points.csv") << "0.75,0.75,0.75\n";
+    const Run fromScene = vfieldCli("probe --scene " + dir + "/s.json --object cube --points " + dir + "/points.csv -q", dir);
+    const Run fromFlags = vfieldCli("probe " + vfield::test::dataPath("cube_quads.obj") +
+                                        " --margin 0 --max-per-leaf 1 --max-level 3 --strength 3 --growth doubling --points " +
+                                        dir + "/points.csv -q",
+                                    dir);
+    INFO(fromScene.err);
+    REQUIRE(fromScene.exitCode == 0);
+    CHECK(fromScene.out == fromFlags.out);
+    CHECK(fromScene.out.find("69.2820282") != std::string::npos);
+    // A flag changes the scene's value, checked as the scene's.
+    const Run linear =
+        vfieldCli("probe --scene " + dir + "/s.json --object cube --growth linear --points " + dir + "/points.csv -q", dir);
+    CHECK(linear.out.find("51.961525") != std::string::npos);
+    const Run deep =
+        vfieldCli("probe --scene " + dir + "/s.json --object cube --max-level 30 --points " + dir + "/points.csv", dir);
+    CHECK(deep.err ==
+          "vfield probe: " + dir + "/s.json: /objects/0/repulsion/maxLevel: expected a positive integer of at most 20, got 30\n");
+    CHECK(vfieldCli("probe --scene " + dir + "/s.json --object sphere --points " + dir + "/points.csv", dir)
+              .err.find("no object named \"sphere\" (its objects: cube)") != std::string::npos);
+    CHECK(vfieldCli("probe --scene " + dir + "/s.json --points " + dir + "/points.csv", dir).exitCode == 2);
+    CHECK(vfieldCli("probe --points " + dir + "/points.csv", dir).exitCode == 2);
 }
 
 TEST_CASE("cli: tracks.json's matrix places the object-space export where --frame places it", "[cli]")

@@ -192,7 +192,7 @@ TEST_CASE("repulsion field: every method gives the same grids for 1 and 2 thread
             force[threads - 1] = gridChecksum(*field->force());
             level[threads - 1] = gridChecksum(*field->level());
         }
-        INFO(repulsionMethodName(method));
+        INFO(enumName(method));
         CHECK(force[0] == force[1]);
         CHECK(level[0] == level[1]);
     }

@@ -5,6 +5,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <filesystem>
 #include <fstream>
 
 using namespace vfield;
@@ -31,12 +32,15 @@ TEST_CASE("scene: defaults fill everything but the objects", "[scene]")
 
 TEST_CASE("scene: the shipped scenes parse", "[scene]")
 {
-    for (const char* name : {"cloud_over_terrain.json", "cloud_bank.json", "canyon_flythrough.json", "crossing_flights.json",
-                             "plane_through_cloud.json"}) {
-        INFO(name);
-        const Scene scene = loadScene(std::string(VFIELD_SCENES_DIR) + "/" + name);
+    int scenes = 0;
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(VFIELD_SCENES_DIR)) {
+        if (entry.path().extension() != ".json") continue;
+        INFO(entry.path().string());
+        const Scene scene = loadScene(entry.path().string());
         CHECK_FALSE(scene.simulation.objects.empty());
+        ++scenes;
     }
+    CHECK(scenes >= 8);
     // The bank's terrain field doubles; a growth of another name is refused with its JSON path.
     const Scene bank = loadScene(std::string(VFIELD_SCENES_DIR) + "/cloud_bank.json");
     CHECK(bank.simulation.objects.at(0).repulsion->field.growth == MagnitudeGrowth::Doubling);
@@ -101,6 +105,30 @@ TEST_CASE("scene: absurd sizes are refused before anything is allocated", "[scen
     CHECK_THROWS_WITH(
         parseScene(R"({"version": 1, "objects": [{"name": "t", "mesh": {"terrain": {"cells": [100000, 10]}}}]})", "s.json"),
         Catch::Contains("/objects/0/mesh/terrain/cells/0"));
+}
+
+TEST_CASE("scene: an override's * stands for every element, passing objects without a field", "[scene]")
+{
+    const std::string dir = test::scratchDir("scene-wildcard");
+    std::ofstream(dir + "/s.json") << R"({"version": 1, "objects": [
+        {"name": "a", "mesh": {"box": {}}},
+        {"name": "b", "mesh": {"box": {}}, "repulsion": false},
+        {"name": "c", "mesh": {"box": {}}, "repulsion": {"strength": 3}},
+        {"name": "d", "mesh": {"box": {}}, "repulsion": true}]})";
+    const Scene scene = loadScene(dir + "/s.json", {{"/objects/*/repulsion/splitRule", "\"paper\""}});
+    const std::vector<ObjectSpec>& objects = scene.simulation.objects;
+    CHECK(objects[0].repulsion->field.splitRule == SplitRule::Paper);
+    CHECK_FALSE(objects[1].repulsion.has_value());
+    CHECK(objects[2].repulsion->field.splitRule == SplitRule::Paper);
+    CHECK(objects[2].repulsion->field.strength == 3.0);
+    CHECK(objects[3].repulsion->field.splitRule == SplitRule::Paper);
+    // Without a *, a place that cannot hold the value is an error; a bad value is the scene's error.
+    CHECK_THROWS_WITH(loadScene(dir + "/s.json", {{"/objects/1/repulsion/splitRule/x", "1"}}),
+                      Catch::Contains("no such place in the scene"));
+    CHECK_THROWS_WITH(loadScene(dir + "/s.json", {{"/objects/*/repulsion/splitRule", "\"cone\""}}),
+                      Catch::Contains("s.json: /objects/0/repulsion/splitRule: expected one of"));
+    CHECK_THROWS_WITH(loadScene(dir + "/s.json", {{"/objects/0/*", "1"}}),
+                      Catch::Contains("stands for the elements of an array"));
 }
 
 TEST_CASE("scene: a mesh file path is relative to the scene file", "[scene]")

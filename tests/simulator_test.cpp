@@ -382,14 +382,14 @@ TEST_CASE("showcase: the octree and distance fields keep the cloud off the terra
     for (const RepulsionMethod method : {RepulsionMethod::Octree, RepulsionMethod::Distance, RepulsionMethod::PotentialFlow}) {
         Scene scene = test::showcaseAtTestResolution("cloud_over_terrain.json", 2000, 240);
         scene.simulation.objects.at(0).repulsion->method = method;
-        const std::string dir = test::scratchDir(std::string("methods-") + repulsionMethodName(method));
+        const std::string dir = test::scratchDir(std::string("methods-") + enumName(method));
         const SimulateSummary summary = simulateScene(scene, dir, {200, 240, {}, {}}); // paths from the frames written
         const RunMetrics metrics = measureRun(dir);
-        INFO(repulsionMethodName(method) << ": clearance " << summary.worstParticles.minimum << ", 1st percentile "
-                                         << summary.worstParticles.percentile1 << ", penetrations "
-                                         << summary.worstParticles.penetrations << ", curvature " << metrics.meanCurvature);
+        INFO(enumName(method) << ": clearance " << summary.worstParticles.minimum << ", 1st percentile "
+                              << summary.worstParticles.percentile1 << ", penetrations " << summary.worstParticles.penetrations
+                              << ", curvature " << metrics.meanCurvature);
         REQUIRE(metrics.fields.size() == 1);
-        CHECK(metrics.fields[0].method == repulsionMethodName(method));
+        CHECK(metrics.fields[0].method == enumName(method));
         CHECK(metrics.fields[0].memoryBytes > 0);
         CHECK(metrics.minClearance == summary.worstParticles.minimum);
         CHECK(metrics.penetrations == summary.worstParticles.penetrations);

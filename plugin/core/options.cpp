@@ -1,5 +1,6 @@
 #include <vfield/core/options.h>
 
+#include <cmath>
 #include <sstream>
 
 namespace vfield {
@@ -13,9 +14,11 @@ std::string numberText(double value)
 
 void requireNumber(const std::string& key, double value, double min, double max)
 {
-    if (!(value >= min && value <= max))
-        throw OptionError(key, "expected a number within [" + numberText(min) + ", " + numberText(max) + "], got " +
-                                   numberText(value));
+    if (value >= min && value <= max) return;
+    const std::string expected = std::isinf(max)   ? ">= " + numberText(min)
+                                 : std::isinf(min) ? "<= " + numberText(max)
+                                                   : "within [" + numberText(min) + ", " + numberText(max) + "]";
+    throw OptionError(key, "expected a number " + expected + ", got " + numberText(value));
 }
 
 void requireInteger(const std::string& key, int64_t value, int64_t min, int64_t max)

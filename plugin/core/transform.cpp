@@ -1,6 +1,6 @@
 #include <vfield/core/transform.h>
 
-#include <vfield/core/options.h>
+#include <vfield/core/field_visitors.h>
 
 #include <cmath>
 
@@ -38,6 +38,6 @@ BBoxd Transform::worldBounds(const BBoxd& objectBox) const
 
 bool Transform::isIdentity() const { return translation == Vec3d(0.0) && scale == 1.0 && rotation.eq(Quatd::identity()); }
 
-void Transform::validate() const { requireNumber("scale", scale, 1e-9, 1e9); }
+void Transform::validate() const { checkFields(*this); }
 
 } // namespace vfield

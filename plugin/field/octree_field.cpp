@@ -1,8 +1,7 @@
 #include <vfield/field/octree_field.h>
 
 #include <vfield/core/error.h>
-#include <vfield/core/json.h>
-#include <vfield/core/options.h>
+#include <vfield/core/field_visitors.h>
 #include <vfield/field/triangle_box_overlap.h>
 
 #include <tbb/parallel_for.h>
@@ -15,28 +14,7 @@
 
 namespace vfield {
 
-void OctreeFieldOptions::validate() const
-{
-    if (margin) requireNumber("margin", *margin, 0.0, 1e12);
-    requireInteger("maxPerLeaf", maxPerLeaf, 1, 1 << 20);
-    requireInteger("maxLevel", maxLevel, 1, OctreeField::kMaxLevels);
-    requireNumber("strength", strength, 0.0, 1e12);
-    requireNumber("surfaceBoost", surfaceBoost, 1.0, 1e12);
-}
-
-void readOctreeFieldKeys(JsonObject& o, OctreeFieldOptions& options)
-{
-    if (const auto margin = o.find("margin")) options.margin = margin->asNumber();
-    options.maxPerLeaf = o.integer("maxPerLeaf", options.maxPerLeaf);
-    options.maxLevel = o.integer("maxLevel", options.maxLevel);
-    options.strength = o.number("strength", options.strength);
-    options.surfaceBoost = o.number("surfaceBoost", options.surfaceBoost);
-    options.flipNormals = o.boolean("flipNormals", options.flipNormals);
-    options.splitRule =
-        o.choice("splitRule", "normalCone", {"normalCone", "paper"}) == "paper" ? SplitRule::Paper : SplitRule::NormalCone;
-    options.growth =
-        o.choice("growth", "linear", {"linear", "doubling"}) == "doubling" ? MagnitudeGrowth::Doubling : MagnitudeGrowth::Linear;
-}
+void OctreeFieldOptions::validate() const { checkFields(*this); }
 
 double magnitudeAtLevel(MagnitudeGrowth growth, double strength, double level)
 {

@@ -1,8 +1,7 @@
 #include <vfield/field/repulsion_field.h>
 
 #include <vfield/core/error.h>
-#include <vfield/core/json.h>
-#include <vfield/core/options.h>
+#include <vfield/core/field_visitors.h>
 #include <vfield/field/field_grid.h>
 
 #include <openvdb/tools/FastSweeping.h>
@@ -17,39 +16,12 @@
 
 namespace vfield {
 
-const char* repulsionMethodName(RepulsionMethod method)
-{
-    switch (method) {
-    case RepulsionMethod::Octree:
-        return "octree";
-    case RepulsionMethod::Distance:
-        return "distance";
-    case RepulsionMethod::PotentialFlow:
-        return "potentialFlow";
-    }
-    return "octree";
-}
-
 void RepulsionOptions::validate() const
 {
-    field.validate();
-    if (voxelSize) {
-        requireNumber("voxelSize", *voxelSize, 1e-9, 1e12);
+    checkFields(*this);
+    if (voxelSize)
         require(method != RepulsionMethod::Octree, "voxelSize",
                 "applies to the distance and potentialFlow methods (the octree's cells follow its triangles)");
-    }
-}
-
-RepulsionOptions repulsionOptionsFromJson(const JsonValue& json)
-{
-    return readOptions<RepulsionOptions>(json, [&](JsonObject& o, RepulsionOptions& options) {
-        const std::string method = o.choice("method", "octree", {"octree", "distance", "potentialFlow"});
-        options.method = method == "distance"        ? RepulsionMethod::Distance
-                         : method == "potentialFlow" ? RepulsionMethod::PotentialFlow
-                                                     : RepulsionMethod::Octree;
-        if (const auto voxel = o.find("voxelSize")) options.voxelSize = voxel->asNumber();
-        readOctreeFieldKeys(o, options.field);
-    });
 }
 
 double RepulsionField::cellSize(int level) const { return mSide * std::ldexp(1.0, 1 - level); }

@@ -1,8 +1,8 @@
 #include <vfield/mesh/procedural.h>
 
+#include <vfield/core/field_visitors.h>
 #include <vfield/core/image_file.h>
 #include <vfield/core/noise.h>
-#include <vfield/core/options.h>
 
 #include <algorithm>
 #include <array>
@@ -62,36 +62,19 @@ double carveProfile(double distance, const TerrainCarve& carve)
 
 void TerrainCarve::validate() const
 {
+    checkFields(*this);
     require(path.size() >= 2, "path", "expected at least two points [x, z]");
-    requireNumber("halfWidth", halfWidth, 1e-9, 1e12);
-    requireNumber("depth", depth, -1e12, 1e12);
-    if (floorHeight) requireNumber("floorHeight", *floorHeight, -1e12, 1e12);
-    requireNumber("wallSharpness", wallSharpness, 1.0, 100.0);
     requireNumber("wallRoughness", wallRoughness, 0.0, halfWidth);
 }
 
 void TerrainOptions::validate() const
 {
-    requireNumber("size/0", sizeX, 1e-9, 1e12);
-    requireNumber("size/1", sizeZ, 1e-9, 1e12);
-    requireInteger("cells/0", cellsX, 1, kMaxCellsPerAxis);
-    requireInteger("cells/1", cellsZ, 1, kMaxCellsPerAxis);
+    checkFields(*this);
     require(double(cellsX) * cellsZ <= kMaxCells, "cells",
             "expected at most 64 million cells in all, got " + std::to_string(cellsX) + " x " + std::to_string(cellsZ));
-    requireNumber("amplitude", amplitude, 0.0, 1e9);
-    requireNumber("featureSize", featureSize, 1e-9, 1e12);
-    requireInteger("octaves", octaves, 1, 16);
-    requireNumber("roughness", roughness, 0.0, 1.0);
-    requireNumber("erosion", erosion, 0.0, 1.0);
-    requireNumber("baseThickness", baseThickness, 1e-9, 1e12);
-    for (std::size_t i = 0; i < carves.size(); ++i) validatePart("carves/" + std::to_string(i), carves[i]);
 }
 
-void SphereOptions::validate() const
-{
-    requireNumber("radius", radius, 1e-12, 1e12);
-    requireInteger("subdivisions", subdivisions, 0, 8);
-}
+void SphereOptions::validate() const { checkFields(*this); }
 
 void BoxOptions::validate() const
 {
@@ -211,12 +194,7 @@ TriangleMesh makeTerrain(const TerrainOptions& o)
 void HeightmapOptions::validate() const
 {
     require(!path.empty(), "file", "expected an image file");
-    requireNumber("size/0", sizeX, 1e-9, 1e12);
-    requireNumber("size/1", sizeZ, 1e-9, 1e12);
-    requireNumber("heightScale", heightScale, -1e9, 1e9);
-    requireInteger("cells/0", cellsX, 0, TerrainOptions::kMaxCellsPerAxis);
-    requireInteger("cells/1", cellsZ, 0, TerrainOptions::kMaxCellsPerAxis);
-    requireNumber("baseThickness", baseThickness, 1e-9, 1e12);
+    checkFields(*this);
 }
 
 TriangleMesh makeHeightmapTerrain(const HeightmapOptions& o)

@@ -49,9 +49,9 @@ Vec3d horizontal(Vec3d v, const Vec3d& fallback)
 Camera followCamera(const CameraSettings& settings, const std::vector<Transform>& path, const FirstSurfaceQuery& firstSurface,
                     int width, int height)
 {
-    if (path.empty()) throw ValueError("a following camera needs the object's pose");
+    if (path.empty() || !settings.follow) throw ValueError("a following camera needs an object to follow and its pose");
     const Transform& object = path.back();
-    const Vec3d& o = settings.followOffset;
+    const Vec3d& o = settings.follow->offset;
     const Vec3d target = object.translation, up(0, 1, 0);
     Vec3d forward = horizontal(object.rotateToWorld(Vec3d(1, 0, 0)), Vec3d(1, 0, 0));
     Vec3d anchor = target + forward * o[0];

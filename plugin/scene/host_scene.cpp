@@ -2,6 +2,7 @@
 
 #include <vfield/core/atomic_file.h>
 #include <vfield/core/error.h>
+#include <vfield/core/field_visitors.h>
 #include <vfield/mesh/mesh_io.h>
 #include <vfield/render/camera.h>
 #include <vfield/render/embree/surfaces.h>
@@ -48,7 +49,7 @@ nlohmann::json cameraPoses(const Scene& scene, const std::vector<TriangleMesh>& 
     const RenderSettings& settings = scene.render;
     const int width = settings.image.width, height = settings.image.height;
     nlohmann::json poses = nlohmann::json::array();
-    if (!settings.camera.followObject) {
+    if (!settings.camera.follow) {
         poses.push_back(cameraPose(first, Camera::fromSettings(settings.camera, width, height)));
         return poses;
     }
@@ -58,7 +59,7 @@ nlohmann::json cameraPoses(const Scene& scene, const std::vector<TriangleMesh>& 
     for (std::size_t i = 0; i < objects.size(); ++i) {
         if (objects[i].isDynamic) {
             surfaces.addDynamic(int(i), meshes[i]);
-            if (objects[i].name == *settings.camera.followObject) followed = int(i);
+            if (objects[i].name == settings.camera.follow->object) followed = int(i);
         } else {
             surfaces.addStatic(int(i), meshes[i], objects[i].transform);
         }
@@ -111,37 +112,29 @@ void writeHostScene(const Scene& scene, const SimFolder& simulation)
     }
 
     const RenderSettings& r = scene.render;
-    const MediumSettings& m = r.medium;
     nlohmann::json camera = {{"fovDegrees", r.camera.fovDegrees},
                              {"resolution", {r.image.width, r.image.height}},
-                             {"follows", r.camera.followObject ? nlohmann::json(*r.camera.followObject) : nullptr},
+                             {"follows", r.camera.follow ? nlohmann::json(r.camera.follow->object) : nullptr},
                              {"poses", cameraPoses(scene, meshes, simulation, first, last)}};
-    const nlohmann::json host = {
-        {"format", "vfield host scene"},
-        {"version", 1},
-        {"convention", "y up, right-handed, world units; paths relative to this file"},
-        {"scene", fs::absolute(scene.path).lexically_normal().string()},
-        {"fps", stats.fps},
-        {"frames", {first, last}},
-        {"volume",
-         {{"files", "../density.####.vdb"},
-          {"densityGrid", "density"},
-          {"velocityGrid", "vel"},
-          {"velocityUnit", "world units per second"},
-          {"extinction", m.extinction},
-          {"albedo", m.albedo},
-          {"anisotropy", m.anisotropy},
-          {"backAnisotropy", m.backAnisotropy},
-          {"backWeight", m.backWeight}}},
-        {"tracks", anyDynamic ? nlohmann::json("../tracks.json") : nullptr},
-        {"objects", objects},
-        {"camera", camera},
-        {"sun", {{"direction", vec(r.sun.direction.unitSafe())}, {"color", vec(r.sun.color)}, {"intensity", r.sun.intensity}}},
-        {"sky",
-         {{"zenithColor", vec(r.sky.zenithColor)},
-          {"horizonColor", vec(r.sky.horizonColor)},
-          {"intensity", r.sky.intensity},
-          {"hazeDistance", r.sky.hazeDistance}}}};
+    nlohmann::json volume = {{"files", "../density.####.vdb"},
+                             {"densityGrid", "density"},
+                             {"velocityGrid", "vel"},
+                             {"velocityUnit", "world units per second"}};
+    volume.update(fieldsToJson(r.medium));
+    nlohmann::json sun = fieldsToJson(r.sun);
+    sun["direction"] = vec(r.sun.direction.unitSafe());
+    const nlohmann::json host = {{"format", "vfield host scene"},
+                                 {"version", 1},
+                                 {"convention", "y up, right-handed, world units; paths relative to this file"},
+                                 {"scene", fs::absolute(scene.path).lexically_normal().string()},
+                                 {"fps", stats.fps},
+                                 {"frames", {first, last}},
+                                 {"volume", volume},
+                                 {"tracks", anyDynamic ? nlohmann::json("../tracks.json") : nullptr},
+                                 {"objects", objects},
+                                 {"camera", camera},
+                                 {"sun", sun},
+                                 {"sky", fieldsToJson(r.sky)}};
     writeTextAtomically((dir / "host.json").string(), host.dump(1) + "\n");
 }
 

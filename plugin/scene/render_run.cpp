@@ -35,29 +35,17 @@ namespace {
 /// What a frame's images depend on besides its simulation: every render
 /// setting, every surface's material, the back-end and the formats. A frame
 /// rendered with another stamp is stale (a killed 1280x720 run must not leave
-/// its frames among a 960x540 rerun's). Keep in step with RenderSettings.
+/// its frames among a 960x540 rerun's).
 uint64_t renderStamp(const RenderSettings& s, const std::map<int, SurfaceMaterial>& materials, const RenderRunOptions& options)
 {
     ContentHash h;
-    const auto vec = [&](const Vec3d& v) { h.addValue(v); };
-    const auto number = [&](double v) { h.addValue(v); };
-    const auto integer = [&](int64_t v) { h.addValue(v); };
-    const CameraSettings& c = s.camera;
-    vec(c.position), vec(c.lookAt), vec(c.up), number(c.fovDegrees), vec(c.followOffset);
-    h.add(c.followObject.value_or(std::string(1, '\0')));
-    vec(s.sun.direction), vec(s.sun.color), number(s.sun.intensity);
-    vec(s.sky.zenithColor), vec(s.sky.horizonColor), number(s.sky.intensity), number(s.sky.hazeDistance);
-    integer(s.image.width), integer(s.image.height), integer(s.image.samplesPerPixel), integer(s.image.transparentSky);
-    const MediumSettings& m = s.medium;
-    number(m.extinction), number(m.albedo), number(m.anisotropy), number(m.backAnisotropy), number(m.backWeight);
-    const IntegratorSettings& i = s.integrator;
-    integer(int64_t(i.kind)), integer(i.maxBounces), number(i.volumeStep), integer(i.skipEmptySpace);
-    const MultipleScattering& ms = i.multipleScattering;
-    integer(ms.octaves), number(ms.scatteringFalloff), number(ms.extinctionFalloff), number(ms.eccentricityFalloff);
-    number(ms.skyScatteringFalloff);
-    integer(int64_t(s.povrayQuality));
-    for (const auto& [object, material] : materials) integer(object), integer(int64_t(material.kind)), vec(material.paint);
-    integer(int64_t(options.backend));
+    h.addValue(s.hash());
+    for (const auto& [object, material] : materials) {
+        h.addValue(int64_t(object));
+        h.addValue(int64_t(material.kind));
+        h.addValue(material.paint);
+    }
+    h.addValue(int64_t(options.backend));
     for (const std::string& format : options.formats) h.add(format);
     return h.value();
 }
@@ -173,7 +161,7 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
             const Transform pose = tracks.pose(object.name, f);
             surfaces.setPose(int(i), pose);
             poses[int(i)] = pose;
-            if (settings.camera.followObject && *settings.camera.followObject == object.name)
+            if (settings.camera.follow && settings.camera.follow->object == object.name)
                 followedPath = tracks.path(object.name, f);
         }
         surfaces.commit();

@@ -1,7 +1,7 @@
 #include <vfield/scene/scene.h>
 
 #include <vfield/core/error.h>
-#include <vfield/core/options.h>
+#include <vfield/core/field_visitors.h>
 
 #include <nlohmann/json.hpp>
 
@@ -20,12 +20,13 @@ const ObjectSpec* Scene::findObject(const std::string& name) const
 
 void Scene::validate() const
 {
+    require(version == 1, "version", "this vfield reads scene version 1");
     simulation.validate();
     render.validate();
-    if (const auto& follow = render.camera.followObject) {
-        const ObjectSpec* target = findObject(*follow);
+    if (const auto& follow = render.camera.follow) {
+        const ObjectSpec* target = findObject(follow->object);
         require(target && target->isDynamic, "camera",
-                "\"follow\" names \"" + *follow + "\", which is not a dynamic object of the scene");
+                "\"follow\" names \"" + follow->object + "\", which is not a dynamic object of the scene");
     }
     for (const CloudSpec& cloud : simulation.clouds) {
         const double voxel = volume.voxelSize;
@@ -40,49 +41,74 @@ void Scene::validate() const
 Scene parseScene(const std::string& text, const std::string& file)
 {
     const JsonValue root = parseJson(text, file);
-    const std::string baseDir = std::filesystem::path(file).parent_path().string();
-    JsonObject o(root);
-    Scene scene;
+    Scene scene = readFields<Scene>(root, std::filesystem::path(file).parent_path().string());
     scene.path = file;
-
-    const JsonValue version = o.at("version");
-    if (version.asInt() != 1) version.fail("this vfield reads scene version 1");
-
-    SimulationSetup& sim = scene.simulation;
-    if (const auto frames = o.find("frames")) {
-        JsonObject f(*frames);
-        sim.firstFrame = f.integer("start", sim.firstFrame);
-        sim.lastFrame = f.integer("end", sim.lastFrame);
-        sim.fps = f.number("fps", sim.fps);
-        f.finish();
-    }
-    sim.seed = o.unsignedInteger("seed", sim.seed);
-    for (const JsonValue& item : o.at("objects").asArray()) sim.objects.push_back(objectSpecFromJson(item, baseDir));
-    if (const auto clouds = o.find("clouds"))
-        for (const JsonValue& item : clouds->asArray()) sim.clouds.push_back(cloudSpecFromJson(item));
-    if (const auto fields = o.find("fields"))
-        for (const JsonValue& item : fields->asArray()) sim.fields.push_back(uniformFieldSpecFromJson(item));
-    if (const auto options = o.find("simulation")) sim.options = simulationOptionsFromJson(*options);
-
-    if (const auto volume = o.find("volume")) scene.volume = volumeOptionsFromJson(*volume);
     // The density's defaults follow the clouds' particles, resolved once here.
     double radii = 0.0, particles = 0.0;
-    for (const CloudSpec& cloud : sim.clouds) {
+    for (const CloudSpec& cloud : scene.simulation.clouds) {
         radii += cloud.particleRadius * double(cloud.count);
         particles += double(cloud.count);
     }
-    if (const auto camera = o.find("camera")) scene.render.camera = cameraSettingsFromJson(*camera);
-    if (const auto sun = o.find("sun")) scene.render.sun = sunSettingsFromJson(*sun);
-    if (const auto sky = o.find("sky")) scene.render.sky = skySettingsFromJson(*sky);
-    if (const auto render = o.find("render")) renderSectionFromJson(*render, scene.render);
-    o.finish();
-    validateAt(root, [&] {
-        scene.simulation.validate();
-        scene.volume = scene.volume.resolved(particles > 0 ? radii / particles : 1.0);
-        scene.validate();
-    });
+    scene.volume = scene.volume.resolved(particles > 0 ? radii / particles : 1.0);
+    validateAt(root, [&] { scene.validate(); });
     return scene;
 }
+
+namespace {
+
+/// The tokens of a JSON pointer, unescaped ("~1" is '/', "~0" is '~').
+std::vector<std::string> pointerTokens(const std::string& pointer)
+{
+    std::vector<std::string> tokens;
+    for (std::size_t at = 1; at <= pointer.size();) {
+        const std::size_t end = std::min(pointer.find('/', at), pointer.size());
+        std::string token;
+        for (std::size_t i = at; i < end; ++i) {
+            if (pointer[i] == '~' && i + 1 < end && (pointer[i + 1] == '0' || pointer[i + 1] == '1')) {
+                token += pointer[++i] == '0' ? '~' : '/';
+            } else {
+                token += pointer[i];
+            }
+        }
+        tokens.push_back(token);
+        at = end + 1;
+    }
+    return tokens;
+}
+
+/// Sets value at the place the tokens from `at` on name below node. "*"
+/// stands for every element of an array; below one, an element whose path
+/// passes a false (an object without a field) is left alone, and true
+/// counts as {} (its defaults).
+void setAt(nlohmann::json& node, const std::vector<std::string>& tokens, std::size_t at, const nlohmann::json& value,
+           bool underWildcard)
+{
+    if (at == tokens.size()) {
+        node = value;
+        return;
+    }
+    const std::string& token = tokens[at];
+    if (node.is_boolean()) {
+        if (!node.get<bool>() && underWildcard) return;
+        if (node.get<bool>()) node = nlohmann::json::object();
+    }
+    if (token == "*") {
+        if (!node.is_array()) throw ValueError("\"*\" stands for the elements of an array, and " + node.dump() + " is none");
+        for (nlohmann::json& element : node) setAt(element, tokens, at + 1, value, true);
+    } else if (node.is_array()) {
+        const bool isIndex = !token.empty() && token.find_first_not_of("0123456789") == std::string::npos && token.size() < 10;
+        const std::size_t index = isIndex ? std::stoul(token) : node.size() + 1;
+        if (token == "-" || index == node.size()) node.push_back(nullptr);
+        else if (index > node.size()) throw ValueError("no element " + token + " in an array of " + std::to_string(node.size()));
+        setAt(node[token == "-" ? node.size() - 1 : index], tokens, at + 1, value, underWildcard);
+    } else if (node.is_object() || node.is_null()) {
+        setAt(node[token], tokens, at + 1, value, underWildcard);
+    } else {
+        throw ValueError("no key \"" + token + "\" in " + node.dump().substr(0, 40));
+    }
+}
+
+} // namespace
 
 Scene loadScene(const std::string& path, const std::vector<SceneOverride>& overrides)
 {
@@ -103,8 +129,8 @@ Scene loadScene(const std::string& path, const std::vector<SceneOverride>& overr
             throw ValueError(what + "the value is not JSON (a string needs its quotes)");
         }
         try {
-            json[nlohmann::json::json_pointer(o.pointer)] = value;
-        } catch (const nlohmann::json::exception& e) {
+            setAt(json, pointerTokens(o.pointer), 0, value, false);
+        } catch (const ValueError& e) {
             throw ValueError(what + "no such place in the scene (" + e.what() + ")");
         }
     }

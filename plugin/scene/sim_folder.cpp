@@ -2,6 +2,7 @@
 
 #include <vfield/core/atomic_file.h>
 #include <vfield/core/error.h>
+#include <vfield/core/field_visitors.h>
 #include <vfield/core/frame_file.h>
 #include <vfield/core/hash.h>
 #include <vfield/core/vdb_file.h>
@@ -164,136 +165,6 @@ constexpr const char* kTracksConvention =
     "matrix: the same transform as a 4x4 matrix, 16 numbers row by row, for column vectors "
     "(world = M [x, y, z, 1]^T, translation in the last column); velocity: world units per second";
 
-// --- the inputs' hash ---------------------------------------------------------
-
-void add(ContentHash& h, double v) { h.addValue(v); }
-void add(ContentHash& h, int64_t v) { h.addValue(v); }
-void add(ContentHash& h, const std::string& s)
-{
-    h.addValue(uint64_t(s.size()));
-    h.add(s);
-}
-void add(ContentHash& h, const Vec3d& v)
-{
-    for (int i = 0; i < 3; ++i) add(h, v[i]);
-}
-void add(ContentHash& h, const BBoxd& b)
-{
-    add(h, b.min());
-    add(h, b.max());
-}
-void add(ContentHash& h, const OctreeFieldOptions& o);
-void add(ContentHash& h, const RepulsionOptions& o);
-
-template<typename T>
-void add(ContentHash& h, const std::optional<T>& v)
-{
-    add(h, int64_t(v.has_value()));
-    if (v) add(h, *v);
-}
-
-void add(ContentHash& h, const Transform& t)
-{
-    add(h, t.translation);
-    for (int i = 0; i < 4; ++i) add(h, t.rotation[i]);
-    add(h, t.scale);
-}
-
-void add(ContentHash& h, const MeshSource& m)
-{
-    add(h, int64_t(m.kind));
-    add(h, m.tessellateEdge);
-    switch (m.kind) {
-    case MeshSource::Kind::File:
-        add(h, m.path);
-        add(h, readFile(m.path)); // an edited mesh file is another simulation
-        break;
-    case MeshSource::Kind::Terrain: {
-        const TerrainOptions& t = m.terrain;
-        add(h, int64_t(t.seed));
-        for (const double v : {t.sizeX, t.sizeZ, t.amplitude, t.featureSize, t.roughness, t.baseThickness, t.erosion}) add(h, v);
-        for (const int v : {t.cellsX, t.cellsZ, t.octaves, int(t.style)}) add(h, int64_t(v));
-        for (const TerrainCarve& c : t.carves) {
-            add(h, int64_t(c.path.size()));
-            for (const Vec2d& p : c.path) add(h, Vec3d(p[0], p[1], 0.0));
-            for (const double v : {c.halfWidth, c.depth, c.wallSharpness}) add(h, v);
-        }
-        break;
-    }
-    case MeshSource::Kind::Heightmap: {
-        const HeightmapOptions& map = m.heightmap;
-        add(h, map.path);
-        add(h, readFile(map.path)); // an edited elevation model is another simulation
-        for (const double v : {map.sizeX, map.sizeZ, map.heightScale, map.baseThickness}) add(h, v);
-        for (const int v : {map.cellsX, map.cellsZ}) add(h, int64_t(v));
-        break;
-    }
-    case MeshSource::Kind::Sphere:
-        add(h, m.sphere.center);
-        add(h, m.sphere.radius);
-        add(h, int64_t(m.sphere.subdivisions));
-        break;
-    case MeshSource::Kind::Box:
-        add(h, BBoxd(m.box.min, m.box.max));
-        break;
-    }
-}
-
-void add(ContentHash& h, const OctreeFieldOptions& o)
-{
-    add(h, o.margin);
-    for (const int v : {o.maxPerLeaf, o.maxLevel}) add(h, int64_t(v));
-    add(h, o.strength);
-    add(h, o.surfaceBoost);
-    add(h, int64_t(o.flipNormals));
-    add(h, int64_t(o.splitRule));
-    add(h, int64_t(o.growth));
-}
-
-void add(ContentHash& h, const RepulsionOptions& o)
-{
-    add(h, int64_t(o.method));
-    add(h, o.field);
-    add(h, o.voxelSize);
-}
-
-void add(ContentHash& h, const ObjectSpec& o)
-{
-    add(h, o.name);
-    add(h, o.mesh);
-    add(h, o.transform);
-    add(h, int64_t(o.isDynamic));
-    add(h, o.mass);
-    add(h, o.drag);
-    add(h, o.velocity);
-    add(h, int64_t(o.bank));
-    add(h, o.maxRollRate);
-    add(h, o.maxPitchRate);
-    add(h, o.repulsion);
-}
-
-void add(ContentHash& h, const CloudSpec& c)
-{
-    add(h, c.name);
-    add(h, c.count);
-    add(h, int64_t(c.shape));
-    add(h, c.center);
-    add(h, c.radii);
-    for (const double v : {c.billow, c.billowSize, c.particleRadius, c.mass, c.drag}) add(h, v);
-    add(h, c.velocity);
-    add(h, int64_t(c.seed));
-}
-
-void add(ContentHash& h, const UniformFieldSpec& f)
-{
-    add(h, f.name);
-    add(h, f.acceleration);
-    add(h, f.box);
-    add(h, f.softEdge);
-    add(h, int64_t(f.affects.size()));
-    for (const std::string& name : f.affects) add(h, name);
-}
-
 // --- state.bin ----------------------------------------------------------------
 
 constexpr const char* kRunStateHeader = "vfield-run 6";
@@ -303,23 +174,9 @@ constexpr const char* kRunStateHeader = "vfield-run 6";
 uint64_t simulationInputsHash(const SimulationSetup& setup, const VolumeOptions& volume)
 {
     ContentHash h;
-    add(h, std::string(kRunStateHeader));
-    for (const int64_t v : {int64_t(setup.firstFrame), int64_t(setup.lastFrame), int64_t(setup.seed)}) add(h, v);
-    add(h, setup.fps);
-    add(h, int64_t(setup.objects.size()));
-    for (const ObjectSpec& o : setup.objects) add(h, o);
-    add(h, int64_t(setup.clouds.size()));
-    for (const CloudSpec& c : setup.clouds) add(h, c);
-    add(h, int64_t(setup.fields.size()));
-    for (const UniformFieldSpec& f : setup.fields) add(h, f);
-    add(h, int64_t(setup.options.sampling));
-    add(h, setup.options.cfl);
-    add(h, setup.options.domain);
-    add(h, int64_t(setup.options.restPeriod));
-    for (const double v : {volume.voxelSize, volume.kernelRadius, volume.densityPerParticle}) add(h, v);
-    const VolumeDetail& detail = volume.detail;
-    for (const double v : {detail.voxelSize, detail.frequency, detail.amplitude, detail.edgeSoftness}) add(h, v);
-    for (const int64_t v : {int64_t(detail.octaves), int64_t(detail.seed)}) add(h, v);
+    h.add(std::string(kRunStateHeader));
+    hashFields(h, setup, true); // an edited mesh file or elevation model is another simulation
+    hashFields(h, volume);
     return h.value();
 }
 

@@ -98,7 +98,7 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
         const SimObject& object = simulator.objects()[i];
         if (object.spec->isDynamic) dynamic.push_back(i);
         if (!object.field) continue;
-        fields.push_back({object.spec->name, repulsionMethodName(object.field->method()), object.fieldSeconds,
+        fields.push_back({object.spec->name, enumName(object.field->method()), object.fieldSeconds,
                           uint64_t(object.field->memoryBytes()), object.field->finestCellSize() * object.spec->transform.scale});
     }
 

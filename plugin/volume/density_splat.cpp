@@ -1,7 +1,7 @@
 #include <vfield/volume/density_splat.h>
 
+#include <vfield/core/field_visitors.h>
 #include <vfield/core/noise.h>
-#include <vfield/core/options.h>
 #include <vfield/core/trilinear_sampler.h>
 
 #include <openvdb/tools/Filter.h>
@@ -21,25 +21,15 @@
 
 namespace vfield {
 
-void VolumeDetail::validate() const
-{
-    requireNumber("voxelSize", voxelSize, 0.0, 1e9);
-    requireNumber("frequency", frequency, 1e-9, 1e9);
-    requireInteger("octaves", octaves, 1, 10);
-    requireNumber("amplitude", amplitude, 0.0, 4.0);
-    requireNumber("edgeSoftness", edgeSoftness, 0.0, 1e12);
-}
+void VolumeDetail::validate() const { checkFields(*this); }
 
 void VolumeOptions::validate() const
 {
-    requireNumber("voxelSize", voxelSize, 0.0, 1e9);
-    requireNumber("kernelRadius", kernelRadius, 0.0, 1e9);
-    requireNumber("densityPerParticle", densityPerParticle, 0.0, 1e12);
+    checkFields(*this);
     if (voxelSize > 0.0 && kernelRadius > 0.0)
         require(kernelRadius / voxelSize <= kMaxKernelVoxels, "kernelRadius",
                 "kernel radius " + numberText(kernelRadius) + " spans more than " + numberText(kMaxKernelVoxels) + " voxels of " +
                     numberText(voxelSize));
-    validatePart("detail", detail);
 }
 
 VolumeOptions VolumeOptions::resolved(double meanParticleRadius) const
@@ -48,24 +38,6 @@ VolumeOptions VolumeOptions::resolved(double meanParticleRadius) const
     if (r.voxelSize == 0.0) r.voxelSize = meanParticleRadius;
     r.kernelRadius = std::max(r.kernelRadius > 0.0 ? r.kernelRadius : 2.0 * meanParticleRadius, r.voxelSize);
     return r;
-}
-
-VolumeOptions volumeOptionsFromJson(const JsonValue& json)
-{
-    return readOptions<VolumeOptions>(json, [&](JsonObject& o, VolumeOptions& v) {
-        v.voxelSize = o.number("voxelSize", v.voxelSize);
-        v.kernelRadius = o.number("kernelRadius", v.kernelRadius);
-        v.densityPerParticle = o.number("densityPerParticle", v.densityPerParticle);
-        if (const auto detail = o.find("detail"))
-            v.detail = readOptions<VolumeDetail>(*detail, [](JsonObject& d, VolumeDetail& x) {
-                x.voxelSize = d.number("voxelSize", x.voxelSize);
-                x.frequency = d.number("frequency", x.frequency);
-                x.octaves = d.integer("octaves", x.octaves);
-                x.amplitude = d.number("amplitude", x.amplitude);
-                x.edgeSoftness = d.number("edgeSoftness", x.edgeSoftness);
-                x.seed = d.unsignedInteger("seed", x.seed);
-            });
-    });
 }
 
 namespace {

@@ -4,10 +4,6 @@
 
 #include "command.h"
 
-#include <vfield/field/octree_field.h>
-#include <vfield/field/repulsion_field.h>
-#include <vfield/render/render_settings.h>
-
 #include <optional>
 
 namespace vfield::cli {
@@ -19,22 +15,7 @@ struct FrameRange {
 /// --frames A-B or A.
 void addFrameRangeOption(CLI::App& command, std::optional<FrameRange>& range, const std::string& help);
 
-/// --split-rule normalCone|paper, for every command that builds a field.
-void addSplitRuleOption(CLI::App& command, std::optional<SplitRule>& rule);
-/// --repulsion-method for every object of a scene.
-void addRepulsionMethodOption(CLI::App& command, std::optional<RepulsionMethod>& method);
-
 /// --max-memory SIZE (bytes, or with K, M, G, T: binary multiples) for the commands that simulate.
 void addMaxMemoryOption(CLI::App& command, std::optional<double>& bytes);
-
-/// --resolution WxH and --spp N: changes to the scene's image settings,
-/// checked against ImageSettings' own limits.
-struct ImageOverrides {
-    std::optional<int> width, height, samplesPerPixel;
-    bool transparentSky = false;
-    /// Applies the given values to image (the scene's copy every back-end reads).
-    void applyTo(ImageSettings& image) const;
-};
-void addImageOverrideOptions(CLI::App& command, ImageOverrides& overrides);
 
 } // namespace vfield::cli

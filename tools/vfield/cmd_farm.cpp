@@ -68,7 +68,7 @@ Runner registerFarm(CLI::App& app, const GlobalOptions& global)
         plan.toolsDir = VFIELD_TOOLS_DIR;
         plan.scene = fs::absolute(o->scene.path).lexically_normal().string();
         plan.out = fs::absolute(o->output).lexically_normal().string();
-        plan.overrides = o->scene.overrides;
+        plan.overrides = o->scene.allOverrides();
         plan.renderArgs = {"--backend", o->backend};
         plan.first = o->frames ? o->frames->first : scene.simulation.firstFrame;
         plan.last = o->frames ? o->frames->last : scene.simulation.lastFrame;

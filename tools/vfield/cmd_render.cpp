@@ -22,13 +22,12 @@ namespace {
 
 struct RenderCliOptions {
     std::optional<FrameRange> frames;
-    ImageOverrides image;
-    std::string formats = "png", backend = "embree", integrator;
+    std::string formats = "png", backend = "embree";
     int threads = 0, povrayThreads = 0;
     bool force = false, keepScene = false;
 };
 
-void addRenderOptions(CLI::App& command, RenderCliOptions& o)
+void addRenderOptions(CLI::App& command, RenderCliOptions& o, SceneCliOptions& scene)
 {
     addFrameRangeOption(command, o.frames, "Frames to render, A-B or A [default: the scene's range]");
     command
@@ -42,12 +41,7 @@ void addRenderOptions(CLI::App& command, RenderCliOptions& o)
         .add_option("--povray-threads", o.povrayThreads,
                     "POV-Ray's render threads; 1 makes its media noise reproducible [default: as --threads]")
         ->check(CLI::PositiveNumber);
-    addImageOverrideOptions(command, o.image);
-    command
-        .add_option("--integrator", o.integrator,
-                    "vfield's renderer: fast (ray march, light grids, multiple scattering by octaves) or reference "
-                    "(an unbiased path tracer, slow and noisy: give it many --spp) [default: the scene's render.integrator]")
-        ->check(CLI::IsMember({"fast", "reference"}));
+    addRenderShorthands(command, scene);
     command.add_option("--format", o.formats, "Image files: png (8-bit sRGB), exr (half-float, with depth) or both")
         ->type_name("png|exr|png,exr")
         ->check(CLI::IsMember({"png", "exr", "png,exr", "exr,png"}).description(""))
@@ -73,17 +67,6 @@ RenderRunOptions toRunOptions(const RenderCliOptions& o, const CLI::App& command
                                             : RenderBackend::Embree;
     if (command.count("--povray-threads") > 0) options.povrayThreads = o.povrayThreads;
     return options;
-}
-
-/// The scene with the command line's image overrides applied: the one copy of
-/// the render settings that every back-end reads.
-Scene sceneToRender(const SceneCliOptions& sceneOptions, const RenderCliOptions& o)
-{
-    Scene scene = loadScene(sceneOptions);
-    o.image.applyTo(scene.render.image);
-    if (!o.integrator.empty())
-        scene.render.integrator.kind = o.integrator == "reference" ? IntegratorKind::Reference : IntegratorKind::Fast;
-    return scene;
 }
 
 void renderWithProgress(const Scene& scene, const std::string& simDir, const std::string& output, RenderRunOptions options,
@@ -120,11 +103,11 @@ Runner registerRender(CLI::App& app, const GlobalOptions& global)
     addSceneOptions(*command, o->scene);
     command->add_option("--sim", o->sim, "Simulation folder (from vfield simulate)")->required();
     command->add_option("-o,--output", o->output, "Output folder")->required();
-    addRenderOptions(*command, o->render);
+    addRenderOptions(*command, o->render, o->scene);
 
     return [o, command, &global] {
         const auto threads = limitThreads(o->render.threads);
-        renderWithProgress(sceneToRender(o->scene, o->render), o->sim, o->output, toRunOptions(o->render, *command), global);
+        renderWithProgress(loadScene(o->scene), o->sim, o->output, toRunOptions(o->render, *command), global);
     };
 }
 
@@ -140,15 +123,14 @@ Runner registerRun(CLI::App& app, const GlobalOptions& global)
     CLI::App* command = app.add_subcommand(
         "run", "Simulate and render a scene: OUT/sim/ (volumes, particles, tracks, stats) and OUT/frame.####.png");
     addSceneOptions(*command, o->scene);
-    addSplitRuleOption(*command, o->scene.splitRule);
-    addRepulsionMethodOption(*command, o->scene.repulsionMethod);
+    addRepulsionShorthands(*command, o->scene);
     command->add_option("-o,--output", o->output, "Output folder")->required();
-    addRenderOptions(*command, o->render);
+    addRenderOptions(*command, o->render, o->scene);
     addMaxMemoryOption(*command, o->maxMemory);
 
     return [o, command, &global] {
         const auto threads = limitThreads(o->render.threads);
-        const Scene scene = sceneToRender(o->scene, o->render);
+        const Scene scene = loadScene(o->scene);
         const RenderRunOptions options = toRunOptions(o->render, *command);
         SimulateOptions simulate;
         simulate.maxMemoryBytes = o->maxMemory;

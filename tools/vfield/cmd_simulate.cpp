@@ -41,8 +41,7 @@ Runner registerSimulate(CLI::App& app, const GlobalOptions& global)
     auto o = std::make_shared<Options>();
     CLI::App* command = app.add_subcommand("simulate", "Animate a scene and write OpenVDB volumes and particles per frame");
     addSceneOptions(*command, o->scene);
-    addSplitRuleOption(*command, o->scene.splitRule);
-    addRepulsionMethodOption(*command, o->scene.repulsionMethod);
+    addRepulsionShorthands(*command, o->scene);
     command->add_option("-o,--output", o->output, "Output folder (resumes a run of the same scene found there)")->required();
     addFrameRangeOption(*command, o->frames, "Frames to write, A-B or A [default: the scene's range]");
     command->add_option("--threads", o->threads, "Worker threads [default: all cores]")->check(CLI::PositiveNumber);

@@ -2,9 +2,9 @@
 #include "cli_values.h"
 
 #include <vfield/core/error.h>
-#include <vfield/mesh/mesh_io.h>
-#include <vfield/mesh/tessellate.h>
+#include <vfield/mesh/mesh_source.h>
 #include <vfield/scene/memory_estimate.h>
+#include <vfield/scene/scene.h>
 
 #include <chrono>
 #include <cstdio>
@@ -13,53 +13,84 @@ namespace vfield::cli {
 
 void addFieldOptions(CLI::App& command, FieldCliOptions& o)
 {
-    o.command = &command;
-    command.add_option("mesh", o.meshPath, "Mesh file (OBJ, PLY, STL, glTF, ...)")->required();
-    command.add_option("--margin", o.margin, "Dead space around the mesh, object units [default: 10% of the largest extent]")
-        ->check(CLI::NonNegativeNumber);
-    command.add_option("--max-per-leaf", o.octree.maxPerLeaf, "Split a node holding more triangles than this (the paper's N)")
-        ->capture_default_str();
-    command.add_option("--max-level", o.octree.maxLevel, "Deepest octree level; the root is level 1")->capture_default_str();
-    command.add_option("--strength", o.octree.strength, "Force magnitude at level 1, and per level when it grows linearly")
-        ->capture_default_str();
-    command
-        .add_option_function<std::string>(
-            "--growth",
-            [&o](const std::string& text) {
-                o.octree.growth = text == "doubling" ? MagnitudeGrowth::Doubling : MagnitudeGrowth::Linear;
-            },
-            "How the magnitude grows with the level: linear (strength x level, the paper's) or doubling (strength x "
-            "2^(level - 1)) [default: linear]")
-        ->check(CLI::IsMember({"linear", "doubling"}));
-    command.add_option("--surface-boost", o.octree.surfaceBoost, "Magnitude factor in leaves holding triangles")
-        ->capture_default_str();
-    command.add_flag("--flip-normals", o.octree.flipNormals,
-                     "Build the field from the triangles' reversed normals (after closed meshes are oriented outward)");
-    addSplitRuleOption(command, o.splitRule);
-    command.add_option("--tessellate", o.tessellateEdge, "Split mesh edges longer than this first, object units")
-        ->check(CLI::PositiveNumber);
+    CLI::Option* mesh = command.add_option("mesh", o.meshPath, "Mesh file (OBJ, PLY, STL, glTF, ...)");
+    CLI::Option* scene = command.add_option("--scene", o.scenePath,
+                                            "Instead of MESH: a scene file, whose object --object is drawn with its own "
+                                            "repulsion settings (the flags below change them)");
+    command.add_option("--object", o.objectName, "With --scene: the object's name")->needs(scene);
+    scene->excludes(mesh);
+    command.parse_complete_callback([&o] {
+        if (o.meshPath.empty() == o.scenePath.empty())
+            throw CLI::ValidationError("MESH", "give a mesh file or --scene and --object");
+        if (!o.scenePath.empty() && o.objectName.empty()) throw CLI::ValidationError("--object", "--scene needs --object NAME");
+        if (o.scenePath.empty()) { // a bad flag is a usage error; a scene's values are checked with the scene
+            try {
+                o.octreeFlags.read<OctreeFieldOptions>();
+                o.meshFlags.read<MeshSource>({{"file", o.meshPath}});
+            } catch (const ValueError& e) {
+                throw CLI::ValidationError(e.what());
+            }
+        }
+    });
+    o.octreeFlags.addTo<OctreeFieldOptions>(command);
+    o.meshFlags.addTo<MeshSource>(command);
     addMaxMemoryOption(command, o.maxMemory);
 }
 
+namespace {
+
+/// The scene's object, with the flags given applied to its keys before the scene is read.
+ObjectSpec sceneObject(const FieldCliOptions& o)
+{
+    const Scene plain = vfield::loadScene(o.scenePath);
+    std::size_t index = plain.simulation.objects.size();
+    std::string names;
+    for (std::size_t i = 0; i < plain.simulation.objects.size(); ++i) {
+        if (plain.simulation.objects[i].name == o.objectName) index = i;
+        names += (names.empty() ? "" : ", ") + plain.simulation.objects[i].name;
+    }
+    if (index == plain.simulation.objects.size())
+        throw FileError(o.scenePath, "no object named \"" + o.objectName + "\" (its objects: " + names + ")");
+    const std::string object = "/objects/" + std::to_string(index);
+    std::vector<SceneOverride> overrides;
+    for (const auto& [key, value] : o.octreeFlags.values()) overrides.push_back({object + "/repulsion/" + key, value});
+    for (const auto& [key, value] : o.meshFlags.values()) overrides.push_back({object + "/mesh/" + key, value});
+    ObjectSpec spec = vfield::loadScene(o.scenePath, overrides).simulation.objects[index];
+    if (!spec.repulsion) throw FileError(o.scenePath, object + "/repulsion: \"" + o.objectName + "\" has no repulsive field");
+    if (spec.repulsion->method != RepulsionMethod::Octree)
+        throw FileError(o.scenePath, object + "/repulsion/method: \"" + o.objectName + "\"'s field is made by the " +
+                                         enumName(spec.repulsion->method) + " method; this command draws the octree field");
+    return spec;
+}
+
+} // namespace
+
 MeshAndField loadMeshAndBuildField(const FieldCliOptions& o, const GlobalOptions& global)
 {
-    OctreeFieldOptions octree = o.octree;
-    if (o.command->count("--margin") > 0) octree.margin = o.margin;
-    if (o.splitRule) octree.splitRule = *o.splitRule;
-
-    // A mesh too large for the machine is refused before it is read.
-    if (const std::optional<double> limit = o.maxMemory ? o.maxMemory : availableMemory()) {
-        try {
-            requireMemoryWithin(estimateMeshFileMemory(o.meshPath), *limit, o.maxMemory ? "the limit" : "the memory available",
-                                "loading it and building its field");
-        } catch (const OptionError& e) {
-            throw FileError(o.meshPath, e.what());
+    MeshSource source;
+    OctreeFieldOptions octree;
+    std::string meshName = o.meshPath;
+    if (!o.scenePath.empty()) {
+        const ObjectSpec object = sceneObject(o);
+        source = object.mesh;
+        octree = object.repulsion->field;
+        meshName = o.scenePath + " (" + o.objectName + ")";
+    } else {
+        source = o.meshFlags.read<MeshSource>({{"file", o.meshPath}});
+        octree = o.octreeFlags.read<OctreeFieldOptions>();
+        // A mesh too large for the machine is refused before it is read.
+        if (const std::optional<double> limit = o.maxMemory ? o.maxMemory : availableMemory()) {
+            try {
+                requireMemoryWithin(estimateMeshFileMemory(o.meshPath), *limit,
+                                    o.maxMemory ? "the limit" : "the memory available", "loading it and building its field");
+            } catch (const OptionError& e) {
+                throw FileError(o.meshPath, e.what());
+            }
         }
     }
     MeshLoadReport report;
-    TriangleMesh mesh = loadMesh(o.meshPath, &report);
-    for (const std::string& line : report.lines(o.meshPath)) log(global, line);
-    if (o.command->count("--tessellate") > 0) mesh = tessellate(mesh, o.tessellateEdge);
+    TriangleMesh mesh = makeMesh(source, &report);
+    for (const std::string& line : report.lines(meshName)) log(global, line);
 
     const auto start = std::chrono::steady_clock::now();
     OctreeField field = OctreeField::build(mesh, octree);

@@ -1,7 +1,10 @@
 #pragma once
-// The mesh and octree options that probe, bake-field and field-slice share.
+// The mesh and octree options that probe, bake-field and field-slice share:
+// a mesh file with the octree's options as flags, or a scene's object with
+// its own repulsion settings (the flags then change them, as --set would).
 
 #include "command.h"
+#include "declared_flags.h"
 
 #include <vfield/field/octree_field.h>
 #include <vfield/mesh/triangle_mesh.h>
@@ -13,15 +16,13 @@ namespace vfield::cli {
 
 struct FieldCliOptions {
     std::string meshPath;
-    double margin = 0.0;
-    double tessellateEdge = 0.0;
-    OctreeFieldOptions octree;
-    std::optional<SplitRule> splitRule;
+    std::string scenePath, objectName;
+    DeclaredFlags octreeFlags;       ///< OctreeFieldOptions' keys as flags (--margin, --max-level, ...)
+    DeclaredFlags meshFlags;         ///< MeshSource's (--tessellate)
     std::optional<double> maxMemory; ///< bytes (--max-memory)
-    const CLI::App* command = nullptr;
 };
 
-/// Declares MESH and the octree options (--margin, --max-per-leaf, ...).
+/// Declares MESH, --scene and --object, and the octree's flags.
 void addFieldOptions(CLI::App& command, FieldCliOptions& options);
 
 struct MeshAndField {
@@ -29,7 +30,7 @@ struct MeshAndField {
     OctreeField field;
 };
 
-/// Loads (and optionally tessellates) the mesh, builds its field, logs a summary.
+/// Loads or makes the mesh (object space), builds its octree field, logs a summary.
 MeshAndField loadMeshAndBuildField(const FieldCliOptions& options, const GlobalOptions& global);
 
 } // namespace vfield::cli

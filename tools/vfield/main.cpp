@@ -59,6 +59,7 @@ int main(int argc, char** argv)
         {"compare", registerCompare(app, global)},
         {"metrics", registerMetrics(app, global)},
         {"farm", registerFarm(app, global)},
+        {"help", registerHelp(app, global)},
     };
 
     try {

@@ -4,6 +4,7 @@
 /// Rotations are unit quaternions; scene files give Euler angles in degrees,
 /// applied about x, then y, then z (all about fixed world axes).
 
+#include <vfield/core/fields.h>
 #include <vfield/core/math.h>
 
 #include <openvdb/math/Quat.h>
@@ -41,6 +42,16 @@ struct Transform {
     bool isIdentity() const;
     /// Throws OptionError unless scale is within its range.
     void validate() const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("translate", self.translation).unit("world units").doc("where the mesh's origin is placed"));
+        visit(field("rotateDegrees", self.rotation)
+                  .doc("Euler angles about x, then y, then z (fixed world axes)")
+                  .defaultText("`[0, 0, 0]`"));
+        visit(field("scale", self.scale).range(1e-9, 1e9).doc("uniform scale"));
+    }
 };
 
 } // namespace vfield

@@ -26,6 +26,7 @@
 ///   force is zero and the level 0.
 /// After building, only leaves and the structure to find them are kept.
 
+#include <vfield/core/fields.h>
 #include <vfield/core/math.h>
 #include <vfield/mesh/triangle_mesh.h>
 
@@ -36,11 +37,16 @@
 
 namespace vfield {
 
+/// The deepest level any field may have.
+constexpr int kMaxOctreeLevels = 20;
+
 /// When a node is split.
 enum class SplitRule {
     NormalCone, ///< while it holds more than maxPerLeaf triangles, or triangles whose normals oppose
     Paper,      ///< while it holds more than maxPerLeaf triangles: the paper's rule exactly
 };
+inline constexpr EnumName<SplitRule> kSplitRuleNames[] = {{SplitRule::NormalCone, "normalCone"}, {SplitRule::Paper, "paper"}};
+constexpr const auto& enumNames(SplitRule) { return kSplitRuleNames; }
 
 /// How a node's magnitude grows with its level.
 enum class MagnitudeGrowth {
@@ -54,6 +60,9 @@ enum class MagnitudeGrowth {
     /// comes close (a surfaceBoost of 20 flings particles off it instead).
     Doubling,
 };
+inline constexpr EnumName<MagnitudeGrowth> kMagnitudeGrowthNames[] = {{MagnitudeGrowth::Linear, "linear"},
+                                                                      {MagnitudeGrowth::Doubling, "doubling"}};
+constexpr const auto& enumNames(MagnitudeGrowth) { return kMagnitudeGrowthNames; }
 
 /// The magnitude at a level (a fraction for the distance method's continuous
 /// level), before any surface boost.
@@ -76,6 +85,31 @@ struct OctreeFieldOptions {
 
     /// Throws OptionError naming the first option out of range.
     void validate() const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("margin", self.margin)
+                  .range(0, 1e12)
+                  .unit("object units")
+                  .defaultText("10% of the largest extent")
+                  .doc("dead space between the mesh's bounding box and the root cube on every side"));
+        visit(
+            field("maxPerLeaf", self.maxPerLeaf).range(1, 1 << 20).doc("the paper's N: a node holding more triangles is split"));
+        visit(field("maxLevel", self.maxLevel).range(1, kMaxOctreeLevels).doc("deepest level; the root is level 1"));
+        visit(field("strength", self.strength)
+                  .range(0, 1e12)
+                  .doc("magnitude at level 1, and per level when growth is linear: a force, divided by the mass it pushes"));
+        visit(field("growth", self.growth)
+                  .doc("how the magnitude grows with the level: linear, strength x level (the paper's), or doubling, "
+                       "strength x 2^(level - 1), a thin cushion that follows the ground"));
+        visit(field("surfaceBoost", self.surfaceBoost).range(1, 1e12).doc("magnitude factor in leaves holding triangles"));
+        visit(field("splitRule", self.splitRule)
+                  .doc("normalCone: also split a node while two of its triangles face more than 90 degrees apart (thin "
+                       "parts push away on both sides); paper: the triangle count only"));
+        visit(field("flipNormals", self.flipNormals)
+                  .doc("build the field from reversed normals (after closed meshes are oriented outward)"));
+    }
 };
 
 /// The force of the field at one point.
@@ -97,7 +131,7 @@ struct FieldLeaf {
 
 class OctreeField {
 public:
-    static constexpr int kMaxLevels = 20; ///< deepest level any field may have
+    static constexpr int kMaxLevels = kMaxOctreeLevels;
     /// Builds the field around the mesh's triangles of non-zero area, in
     /// parallel (TBB). Throws ValueError for invalid options or a mesh without
     /// such triangles.
@@ -156,15 +190,5 @@ private:
     std::size_t mLeafCount = 0;
     std::vector<Node> mNodes; // mNodes[0] is the root; siblings are contiguous
 };
-
-} // namespace vfield
-
-namespace vfield {
-
-class JsonObject;
-/// The octree's keys of a scene file's "repulsion" object: margin,
-/// maxPerLeaf, maxLevel, strength, surfaceBoost, flipNormals, splitRule (all
-/// optional, defaults as OctreeFieldOptions).
-void readOctreeFieldKeys(JsonObject& object, OctreeFieldOptions& options);
 
 } // namespace vfield

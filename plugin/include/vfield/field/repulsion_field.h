@@ -45,9 +45,10 @@
 namespace vfield {
 
 enum class RepulsionMethod { Octree, Distance, PotentialFlow };
-
-/// The method's name as scene files spell it: octree, distance, potentialFlow.
-const char* repulsionMethodName(RepulsionMethod method);
+inline constexpr EnumName<RepulsionMethod> kRepulsionMethodNames[] = {{RepulsionMethod::Octree, "octree"},
+                                                                      {RepulsionMethod::Distance, "distance"},
+                                                                      {RepulsionMethod::PotentialFlow, "potentialFlow"}};
+constexpr const auto& enumNames(RepulsionMethod) { return kRepulsionMethodNames; }
 
 struct RepulsionOptions {
     RepulsionMethod method = RepulsionMethod::Octree;
@@ -61,6 +62,20 @@ struct RepulsionOptions {
 
     /// Throws OptionError naming the first option out of range.
     void validate() const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(vfield::field("method", self.method)
+                  .doc("octree: the paper's field; distance: from the mesh's signed distance; potentialFlow: the "
+                       "clouds' wind flowing around the mesh"));
+        visit(vfield::field("voxelSize", self.voxelSize)
+                  .range(1e-9, 1e12)
+                  .unit("object units")
+                  .defaultText("root side / 2^(maxLevel - 1)")
+                  .doc("distance and potentialFlow: the grid's voxel (the octree's cells follow its triangles)"));
+        visit(inlineFields(self.field));
+    }
 };
 
 class RepulsionField {
@@ -108,10 +123,5 @@ protected:
     openvdb::Vec3SGrid::Ptr mForce;
     openvdb::Int32Grid::Ptr mLevel;
 };
-
-class JsonValue;
-/// The "repulsion" object of a scene file: method, voxelSize and the
-/// octree's keys (readOctreeFieldKeys), all optional.
-RepulsionOptions repulsionOptionsFromJson(const JsonValue& json);
 
 } // namespace vfield

@@ -4,6 +4,7 @@
 /// heightfield terrain closed into a solid, a sphere and a box. All are closed
 /// and wound outward, so inside and outside are defined for signed distances.
 
+#include <vfield/core/fields.h>
 #include <vfield/mesh/triangle_mesh.h>
 
 #include <cstdint>
@@ -33,6 +34,35 @@ struct TerrainCarve {
 
     /// Throws OptionError naming the first option out of range.
     void validate() const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("path", self.path)
+                  .required()
+                  .doc("[x, z] points, two or more; three or more are followed as a smooth Catmull-Rom curve"));
+        visit(field("halfWidth", self.halfWidth)
+                  .range(1e-9, 1e12)
+                  .unit("world units")
+                  .doc("distance from the path at which the cut ends"));
+        visit(field("depth", self.depth)
+                  .range(-1e12, 1e12)
+                  .unit("world units")
+                  .doc("how far the path's centre line is lowered; negative raises a ridge"));
+        visit(field("wallSharpness", self.wallSharpness)
+                  .range(1, 100)
+                  .doc("1: a smooth valley; larger: steeper walls and a flatter floor"));
+        visit(field("wallRoughness", self.wallRoughness)
+                  .atLeast(0)
+                  .unit("world units, at most halfWidth")
+                  .doc("how far the walls wander in and out (fBm at the scale of halfWidth added to the distance from the path): "
+                       "buttresses and alcoves"));
+        visit(field("floorHeight", self.floorHeight)
+                  .range(-1e12, 1e12)
+                  .unit("world units")
+                  .doc("levels the path to this height, cutting and filling (depth is then unused): an even canyon floor through "
+                       "rugged mountains"));
+    }
 };
 
 /// The noise a terrain's heights come from.
@@ -40,6 +70,8 @@ enum class TerrainStyle {
     Fbm,   ///< rolling hills: fractional Brownian motion
     Ridged ///< mountains: Musgrave's ridged multifractal, sharp crests and smooth valleys
 };
+inline constexpr EnumName<TerrainStyle> kTerrainStyleNames[] = {{TerrainStyle::Fbm, "fbm"}, {TerrainStyle::Ridged, "ridged"}};
+constexpr const auto& enumNames(TerrainStyle) { return kTerrainStyleNames; }
 
 /// A heightfield over [-sizeX/2, sizeX/2] x [-sizeZ/2, sizeZ/2], heights along +y.
 /// height(x, z) = amplitude * erode(noise(x / featureSize, z / featureSize)) - carves,
@@ -69,6 +101,38 @@ struct TerrainOptions {
     /// Throws OptionError naming the first option out of range (keys as in a
     /// scene file: "size/0", "cells/1", "carves/2/halfWidth", ...).
     void validate() const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("seed", self.seed).doc("noise seed: the same seed gives the same terrain on every machine"));
+        visit(field("size", pairOf(self.sizeX, self.sizeZ, "x, z"))
+                  .range(1e-9, 1e12)
+                  .unit("world units")
+                  .doc("extent, centred on the origin"));
+        visit(field("cells", pairOf(self.cellsX, self.cellsZ, "cellsX, cellsZ"))
+                  .range(1, kMaxCellsPerAxis)
+                  .doc("grid cells, 64 million at most in all; two triangles each"));
+        visit(field("amplitude", self.amplitude)
+                  .range(0, 1e9)
+                  .unit("world units")
+                  .doc("height of the noise: heights span about [0, amplitude]"));
+        visit(field("featureSize", self.featureSize)
+                  .range(1e-9, 1e12)
+                  .unit("world units")
+                  .doc("wavelength of the coarsest octave"));
+        visit(field("octaves", self.octaves).range(1, 16).doc("noise octaves"));
+        visit(field("roughness", self.roughness).range(0, 1).doc("amplitude ratio of successive octaves"));
+        visit(field("style", self.style)
+                  .doc("fBm: rolling hills; ridged: Musgrave's ridged multifractal, mountains with sharp crests"));
+        visit(
+            field("erosion", self.erosion).range(0, 1).doc("valley flattening: heights become n^(1 + 3 erosion) of the noise n"));
+        visit(field("baseThickness", self.baseThickness)
+                  .range(1e-9, 1e12)
+                  .unit("world units")
+                  .doc("depth of the solid below the lowest surface point"));
+        visit(field("carves", self.carves).doc("valleys, canyons and ridges, applied in order"));
+    }
 };
 
 /// The surface height at (x, z): the same function the mesh samples.
@@ -90,6 +154,29 @@ struct HeightmapOptions {
     double baseThickness = 10.0; ///< depth of the solid below its lowest point, world units (1e-9..1e12)
 
     void validate() const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("file", self.path)
+                  .required()
+                  .isPath()
+                  .doc("the image (16-bit PNG, TIFF or EXR; its first channel), relative to the scene"));
+        visit(field("size", pairOf(self.sizeX, self.sizeZ, "x, z"))
+                  .required()
+                  .range(1e-9, 1e12)
+                  .unit("world units")
+                  .doc("extent, centred on the origin"));
+        visit(field("heightScale", self.heightScale).range(-1e9, 1e9).doc("world units per unit of pixel value"));
+        visit(field("cells", pairOf(self.cellsX, self.cellsZ, "cellsX, cellsZ"))
+                  .range(0, TerrainOptions::kMaxCellsPerAxis)
+                  .defaultText("one per pixel")
+                  .doc("grid cells; 0: one per pixel"));
+        visit(field("baseThickness", self.baseThickness)
+                  .range(1e-9, 1e12)
+                  .unit("world units")
+                  .doc("depth of the solid below its lowest point"));
+    }
 };
 TriangleMesh makeHeightmapTerrain(const HeightmapOptions& options);
 
@@ -100,6 +187,14 @@ struct SphereOptions {
 
     /// Throws OptionError naming the first option out of range.
     void validate() const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("center", self.center).unit("world units").doc("centre"));
+        visit(field("radius", self.radius).range(1e-12, 1e12).unit("world units").doc("radius"));
+        visit(field("subdivisions", self.subdivisions).range(0, 8).doc("icosahedron subdivisions: 20 x 4^n triangles"));
+    }
 };
 TriangleMesh makeSphere(const SphereOptions& options);
 
@@ -109,6 +204,13 @@ struct BoxOptions {
 
     /// Throws OptionError unless max exceeds min on every axis.
     void validate() const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("min", self.min).unit("world units").doc("lower corner"));
+        visit(field("max", self.max).unit("world units").doc("upper corner, above min on every axis"));
+    }
 };
 TriangleMesh makeBox(const BoxOptions& options);
 

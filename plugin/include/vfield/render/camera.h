@@ -43,9 +43,9 @@ private:
 /// [tMin, tMax], or none: how a camera learns what stands in its way.
 using FirstSurfaceQuery = std::function<std::optional<double>(const Vec3d& origin, const Vec3d& dir, double tMin, double tMax)>;
 
-/// The camera that follows an object (settings.followObject), given the
+/// The camera that follows an object (settings.follow), given the
 /// object's path: its poses from the first frame through this one (the last is
-/// this frame's). With followOffset behind the object (x < 0) the camera rides
+/// this frame's). With the follow offset behind the object (x < 0) the camera rides
 /// that path, -x units of path length back from the object (the path continued
 /// straight behind its first pose where it is shorter), raised by y and moved z
 /// to the right of the path's heading there. A camera on the path just flown

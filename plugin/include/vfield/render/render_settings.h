@@ -7,8 +7,9 @@
 /// Every back-end reads these, and only these: command-line overrides
 /// (--resolution, --spp) are applied to a copy of them before rendering.
 
-#include <vfield/core/json.h>
+#include <vfield/core/fields.h>
 
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -18,20 +19,48 @@ namespace vfield {
 /// propagation before and after scattering; integrates to 1 over the sphere.
 double henyeyGreenstein(double cosTheta, double g);
 
+/// A camera that follows a dynamic object, looking at it from offset (world
+/// units; x forward, y up, z right): -x along the path it flew and y above,
+/// or, for x >= 0, in its heading frame; in front of any surface between the
+/// two (followCamera() in camera.h).
+struct CameraFollow {
+    std::string object;
+    Vec3d offset{-30.0, 10.0, 0.0};
+
+    void validate() const {}
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("object", self.object).required().doc("the dynamic object followed"));
+        visit(field("offset", self.offset)
+                  .unit("world units")
+                  .doc("x forward, y up, z right: with x < 0 the camera rides the object's own path, -x units of path "
+                       "length back, raised by y; with x >= 0 the offset is in the object's heading frame"));
+    }
+};
+
 struct CameraSettings {
     Vec3d position{0.0, 50.0, 200.0}; ///< world units
     Vec3d lookAt{0.0, 0.0, 0.0};      ///< world point at the image centre
     Vec3d up{0.0, 1.0, 0.0};          ///< non-zero
     double fovDegrees = 45.0;         ///< vertical field of view (1e-3..179)
-    /// Follow a dynamic object, looking at it from offset (world units; x
-    /// forward, y up, z right): -x along the path it flew and y above, or, for
-    /// x >= 0, in its heading frame; in front of any surface between the two
-    /// (followCamera() in camera.h).
-    std::optional<std::string> followObject;
-    Vec3d followOffset{-30.0, 10.0, 0.0};
+    std::optional<CameraFollow> follow;
 
     /// Throws OptionError naming the first option out of range.
     void validate() const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("position", self.position).unit("world units").doc("the pinhole"));
+        visit(field("lookAt", self.lookAt).unit("world units").doc("the point at the image's centre"));
+        visit(field("up", self.up).nonZero().doc("what is up in the image"));
+        visit(field("fovDegrees", self.fovDegrees).range(1e-3, 179).unit("degrees").doc("vertical field of view"));
+        visit(field("follow", self.follow)
+                  .doc("follow a dynamic object, moved in front of any surface between camera and object; position and "
+                       "lookAt are then unused"));
+    }
 };
 
 struct SunSettings {
@@ -40,6 +69,16 @@ struct SunSettings {
     double intensity = 3.0;         ///< radiance scale of the sun's light (0..1e6)
 
     void validate() const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("direction", self.direction).nonZero().doc("towards the sun"));
+        visit(field("color", self.color).atLeast(0).unit("linear RGB").doc("the sun's colour"));
+        visit(field("intensity", self.intensity)
+                  .range(0, 1e6)
+                  .doc("radiance scale of the sun's light (irradiance, as Blender's sun strength)"));
+    }
 };
 
 struct SkySettings {
@@ -52,6 +91,21 @@ struct SkySettings {
     double hazeDistance = 0.0;
 
     void validate() const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("zenithColor", self.zenithColor).atLeast(0).unit("linear RGB").doc("the sky straight up"));
+        visit(field("horizonColor", self.horizonColor).atLeast(0).unit("linear RGB").doc("the sky at the horizon, and the haze"));
+        visit(field("intensity", self.intensity)
+                  .range(0, 1e6)
+                  .doc("scale of the sky's light; it also lights surfaces and the cloud"));
+        visit(field("hazeDistance", self.hazeDistance)
+                  .range(0, 1e12)
+                  .unit("world units")
+                  .doc("aerial perspective: what lies at distance d keeps e^(-d / hazeDistance) of its light; 0: clear air. "
+                       "Embree back-end only"));
+    }
 };
 
 /// The picture: its size and how many samples each pixel averages.
@@ -66,6 +120,19 @@ struct ImageSettings {
 
     /// Keys as in a scene file's "render": "resolution/0", "samplesPerPixel".
     void validate() const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("resolution", pairOf(self.width, self.height, "width, height"))
+                  .range(1, kMaxResolution)
+                  .unit("pixels")
+                  .doc("image size"));
+        visit(field("samplesPerPixel", self.samplesPerPixel).range(1, 65536).doc("samples averaged per pixel"));
+        visit(field("transparentSky", self.transparentSky)
+                  .doc("the sky drawn as RGB 0, alpha 0 in EXR frames (premultiplied), for compositing over a plate; "
+                       "PNG frames then show black sky. Embree back-end only"));
+    }
 };
 
 /// The cloud as a participating medium: density x extinction is sigma_t.
@@ -84,6 +151,19 @@ struct MediumSettings {
     /// propagation before and after scattering; integrates to 1 over the sphere.
     double phase(double cosTheta) const;
     void validate() const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("extinction", self.extinction).range(0, 1e9).unit("1/world units").doc("sigma_t per unit density"));
+        visit(field("albedo", self.albedo).range(0, 1).doc("scattering / extinction"));
+        visit(field("anisotropy", self.anisotropy).range(-0.99, 0.99).doc("the phase's forward Henyey-Greenstein lobe, g"));
+        visit(field("backAnisotropy", self.backAnisotropy).range(-0.99, 0.99).doc("the backward lobe's g"));
+        visit(field("backWeight", self.backWeight)
+                  .range(0, 1)
+                  .doc("the backward lobe's share w: p = (1 - w) HG(anisotropy) + w HG(backAnisotropy); the POV-Ray "
+                       "back-end uses the forward lobe only"));
+    }
 };
 
 /// Light scattered more than once, approximated by octaves (after Wrenninge
@@ -102,6 +182,22 @@ struct MultipleScattering {
     double skyScatteringFalloff = 0.5; ///< a for the light of the sky and the ground, diffuse already (0..1)
 
     void validate() const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("octaves", self.octaves).range(1, 8).doc("octave 0 is single scattering; 1: single scattering only"));
+        visit(field("scatteringFalloff", self.scatteringFalloff)
+                  .range(0, 1)
+                  .doc("a, for the sun: octave i gives back a^i of what the cloud took from the light"));
+        visit(field("extinctionFalloff", self.extinctionFalloff).range(0, 1).doc("b: octave i sees transmittance T^(b^i)"));
+        visit(field("eccentricityFalloff", self.eccentricityFalloff)
+                  .range(0, 1)
+                  .doc("c: octave i has c^i of the phase's eccentricity"));
+        visit(field("skyScatteringFalloff", self.skyScatteringFalloff)
+                  .range(0, 1)
+                  .doc("a for the light of the sky and the ground"));
+    }
 };
 
 /// Which light transport a picture is made with.
@@ -114,6 +210,9 @@ enum class IntegratorKind {
     /// the scene's true light as samples grow. What Fast is measured against.
     Reference
 };
+inline constexpr EnumName<IntegratorKind> kIntegratorKindNames[] = {{IntegratorKind::Fast, "fast"},
+                                                                    {IntegratorKind::Reference, "reference"}};
+constexpr const auto& enumNames(IntegratorKind) { return kIntegratorKindNames; }
 
 /// How a ray integrates the medium.
 struct IntegratorSettings {
@@ -128,6 +227,23 @@ struct IntegratorSettings {
     MultipleScattering multipleScattering;
 
     void validate() const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("integrator", self.kind)
+                  .doc("fast: ray march with light grids and octaves; reference: an unbiased volumetric path tracer, "
+                       "noisy, for many samples per pixel"));
+        visit(field("maxBounces", self.maxBounces)
+                  .range(1, 1e6)
+                  .doc("reference integrator: scattering and reflection events per path (1: single scattering); paths "
+                       "also end by Russian roulette"));
+        visit(field("volumeStep", self.volumeStep).range(1e-6, 1e9).unit("world units").doc("fast integrator: ray-march step"));
+        visit(field("skipEmptySpace", self.skipEmptySpace).doc("march only through OpenVDB nodes holding density"));
+        visit(field("multipleScattering", self.multipleScattering)
+                  .doc("the fast integrator's light scattered many times, in octaves (Wrenninge, Production Volume Rendering, "
+                       "2017)"));
+    }
 };
 
 /// How the POV-Ray back-end trades time for quality.
@@ -140,6 +256,9 @@ enum class PovrayQuality {
     /// (at least 8): for previews and farm dailies.
     Preview
 };
+inline constexpr EnumName<PovrayQuality> kPovrayQualityNames[] = {{PovrayQuality::Final, "final"},
+                                                                  {PovrayQuality::Preview, "preview"}};
+constexpr const auto& enumNames(PovrayQuality) { return kPovrayQualityNames; }
 
 struct RenderSettings {
     CameraSettings camera;
@@ -153,12 +272,29 @@ struct RenderSettings {
     /// Checks every part; keys as in a scene file ("camera/fovDegrees",
     /// "render/resolution/0", "render/albedo", ...). Throws OptionError.
     void validate() const;
-};
 
-CameraSettings cameraSettingsFromJson(const JsonValue& json);
-SunSettings sunSettingsFromJson(const JsonValue& json);
-SkySettings skySettingsFromJson(const JsonValue& json);
-/// The scene file's "render" object: the image, the medium and the integrator.
-void renderSectionFromJson(const JsonValue& json, RenderSettings& settings);
+    /// A content hash of every setting (its declaration's fields): frames
+    /// rendered with another are stale.
+    uint64_t hash() const;
+
+    /// A scene file's keys of how it is seen: camera, sun, sky, and the
+    /// "render" object holding the image's, the medium's and the integrator's.
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("camera", self.camera).doc("a pinhole camera"));
+        visit(field("sun", self.sun).doc("the sun, a directional light"));
+        visit(field("sky", self.sky).doc("the sky's gradient; it lights surfaces and the cloud"));
+        visit(group("render", "the image, the cloud as a medium, and how the light is integrated", [&self](auto& render) {
+            render(inlineFields(self.image));
+            render(inlineFields(self.medium));
+            render(inlineFields(self.integrator));
+            render(field("povrayQuality", self.povrayQuality)
+                       .doc("POV-Ray back-end: final supersamples every pixel (n x n for samplesPerPixel n^2) and samples "
+                            "the media at every volumeStep; preview antialiases only pixels that differ from their neighbours by "
+                            "more than 0.3 (2 x 2) and takes a quarter of the media samples (at least 8), for dailies"));
+        }));
+    }
+};
 
 } // namespace vfield

@@ -17,6 +17,7 @@ struct Scene {
     static constexpr double kMaxDensityVoxels = 2e9; ///< a cloud's initial box, in density voxels
 
     std::string path; ///< the scene file
+    int version = 1;  ///< of the scene format
     SimulationSetup simulation;
     VolumeOptions volume; ///< resolved: defaults filled in from the clouds' particle radii
     RenderSettings render;
@@ -26,11 +27,24 @@ struct Scene {
     /// "render/resolution/0", ...), that a followed object is a dynamic object
     /// of the scene, and that each cloud's density grid fits. Throws OptionError.
     void validate() const;
+
+    /// Every key of a scene file (scenes/README.md is generated from it).
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("version", self.version).required().doc("the scene format's version: must be 1"));
+        visit(inlineFields(self.simulation));
+        visit(field("volume", self.volume).doc("the density grids"));
+        visit(inlineFields(self.render));
+    }
 };
 
 /// One change to a scene file's JSON before it is read, as Houdini's and
 /// Blender's command lines allow: the value (JSON text) at a JSON pointer,
 /// e.g. {"/clouds/0/count", "5000"} or {"/render/resolution", "[320, 180]"}.
+/// A "*" in the pointer stands for every element of an array
+/// ("/objects/*/repulsion/method"): below it, an element whose path passes a
+/// false (an object without a field) is left alone, and true counts as {}.
 struct SceneOverride {
     std::string pointer;
     std::string value;

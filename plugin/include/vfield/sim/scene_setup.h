@@ -5,7 +5,7 @@
 /// particle clouds, and uniform acceleration fields (gravity, wind, driving
 /// forces). Units: world units, seconds, mass units; y is up.
 
-#include <vfield/core/json.h>
+#include <vfield/core/fields.h>
 #include <vfield/core/transform.h>
 #include <vfield/field/repulsion_field.h>
 #include <vfield/mesh/mesh_source.h>
@@ -39,11 +39,60 @@ struct ObjectSpec {
 
     /// Throws OptionError naming the first option out of range.
     void validate() const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        constexpr const char* kDynamicOnly = "applies to dynamic objects only";
+        visit(field("name", self.name).required().doc("unique among objects"));
+        visit(field("mesh", self.mesh)
+                  .required()
+                  .doc("exactly one of file, terrain, heightmap, sphere, box, and optionally tessellate"));
+        visit(field("color", self.color)
+                  .range(0, 1)
+                  .unit("linear RGB")
+                  .doc("for renderers: the diffuse reflectance of a mesh that is not ground (terrain and heightmaps are shaded "
+                       "as rock, grass and snow)"));
+        visit(field("transform", self.transform).doc("placement of the mesh; a dynamic object's at the first frame"));
+        visit(field("motion", self.isDynamic).names("static", "dynamic").doc("dynamic objects move through the fields"));
+        visit(field("repulsion", self.repulsion)
+                  .orBoolean()
+                  .doc("the object's repulsive field (the paper's octree unless method says otherwise); false: none"));
+        visit(field("mass", self.mass)
+                  .onlyWhen(self.isDynamic, kDynamicOnly)
+                  .range(1e-9, 1e12)
+                  .doc("dynamic only: repulsive forces are divided by it"));
+        visit(field("drag", self.drag)
+                  .onlyWhen(self.isDynamic, kDynamicOnly)
+                  .range(0, 1e6)
+                  .unit("1/s")
+                  .doc("dynamic only: deceleration per unit velocity"));
+        visit(field("velocity", self.velocity)
+                  .onlyWhen(self.isDynamic, kDynamicOnly)
+                  .unit("world units/s")
+                  .doc("dynamic only: initial velocity"));
+        visit(field("bank", self.bank)
+                  .onlyWhen(self.isDynamic, kDynamicOnly)
+                  .doc("dynamic only: roll into turns, by atan(sideways acceleration / 9.81), at most 60 degrees"));
+        visit(field("maxRollRate", self.maxRollRate)
+                  .onlyWhen(self.isDynamic, kDynamicOnly)
+                  .range(0, 1e5)
+                  .unit("degrees/s")
+                  .doc("dynamic only: it rolls at most this fast, per frame this / fps"));
+        visit(field("maxPitchRate", self.maxPitchRate)
+                  .onlyWhen(self.isDynamic, kDynamicOnly)
+                  .range(0, 1e5)
+                  .unit("degrees/s")
+                  .doc("dynamic only: it pitches at most this fast"));
+    }
 };
 
 struct CloudSpec {
     enum class Shape { Sphere, Ellipsoid, Box };
-    std::string name;
+    static constexpr EnumName<Shape> kShapeNames[] = {
+        {Shape::Sphere, "sphere"}, {Shape::Ellipsoid, "ellipsoid"}, {Shape::Box, "box"}};
+    friend constexpr const auto& enumNames(Shape) { return kShapeNames; }
+    std::string name = "cloud";
     int64_t count = 10000; ///< particles (1..kMaxParticles)
     Shape shape = Shape::Sphere;
     Vec3d center{0.0};             ///< world units
@@ -61,12 +110,57 @@ struct CloudSpec {
 
     /// Throws OptionError naming the first option out of range.
     void validate() const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("name", self.name).doc("what uniform fields' affects name"));
+        visit(field("count", self.count).range(1, double(kMaxParticles)).doc("particles"));
+        visit(field("shape", self.shape).doc("sphere (radius), ellipsoid (radii) or box (halfSize)"));
+        visit(field("center", self.center).unit("world units").doc("centre of the shape"));
+        visit(field("radius", uniformOf(self.radii))
+                  .onlyWhen(self.shape == Shape::Sphere, "applies to a sphere only")
+                  .range(1e-9, 1e9)
+                  .unit("world units")
+                  .doc("sphere: its radius"));
+        visit(field("radii", self.radii)
+                  .onlyWhen(self.shape == Shape::Ellipsoid, "applies to an ellipsoid only")
+                  .required()
+                  .range(1e-9, 1e9)
+                  .unit("world units")
+                  .doc("ellipsoid: its semi-axes"));
+        visit(field("halfSize", self.radii)
+                  .onlyWhen(self.shape == Shape::Box, "applies to a box only")
+                  .required()
+                  .range(1e-9, 1e9)
+                  .unit("world units")
+                  .doc("box: its half extents"));
+        visit(field("billow", self.billow)
+                  .range(0, 0.9)
+                  .doc("a cumulus outline: the shape's surface is pulled in by up to this fraction of its radii where "
+                       "billow noise is high (rounded lumps, creases between); 0 fills the plain shape"));
+        visit(field("billowSize", self.billowSize)
+                  .range(0, 1e9)
+                  .unit("world units")
+                  .defaultText("a third of the smallest radius")
+                  .doc("the size of the largest lumps; 0: the default"));
+        visit(field("particleRadius", self.particleRadius)
+                  .range(1e-9, 1e9)
+                  .unit("world units")
+                  .doc("the particles' pscale; the density's default voxel and kernel scale with it"));
+        visit(field("mass", self.mass)
+                  .range(1e-9, 1e12)
+                  .doc("per particle: repulsive forces are divided by it (uniform fields are accelerations)"));
+        visit(field("drag", self.drag).range(0, 1e6).unit("1/s").doc("deceleration per unit velocity"));
+        visit(field("velocity", self.velocity).unit("world units/s").doc("initial velocity"));
+        visit(field("seed", self.seed).doc("placement of the particles, mixed with the scene's seed"));
+    }
 };
 
 /// A uniform acceleration (world units/s^2), everywhere or inside a box whose
 /// influence fades to zero across a soft edge outside it.
 struct UniformFieldSpec {
-    std::string name;
+    std::string name = "field";
     Vec3d acceleration{0.0};
     std::optional<BBoxd> box;
     double softEdge = 0.0; ///< world units (0..1e12): width of the linear fade outside the box; needs a box
@@ -80,10 +174,31 @@ struct UniformFieldSpec {
     Vec3d accelerationAt(const Vec3d& p) const;
     /// Throws OptionError naming the first option out of range.
     void validate() const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("name", self.name).doc("for messages"));
+        visit(field("acceleration", self.acceleration)
+                  .required()
+                  .unit("world units/s^2")
+                  .doc("gravity, wind or a driving force: it acts alike on every mass"));
+        visit(field("box", self.box).defaultText("everywhere").doc("the field acts inside this box"));
+        visit(field("softEdge", self.softEdge)
+                  .range(0, 1e12)
+                  .unit("world units")
+                  .doc("with a box: the field fades linearly to zero over this distance outside it"));
+        visit(field("affects", self.affects)
+                  .defaultText("everything that moves")
+                  .doc("names of the dynamic objects and clouds it acts on (each aircraft its own driving force); a name that is "
+                       "neither is an error"));
+    }
 };
 
 struct SimulationOptions {
     enum class Sampling { Nearest, Trilinear };
+    static constexpr EnumName<Sampling> kSamplingNames[] = {{Sampling::Nearest, "nearest"}, {Sampling::Trilinear, "trilinear"}};
+    friend constexpr const auto& enumNames(Sampling) { return kSamplingNames; }
     /// nearest: the paper's exact leaf forces; trilinear: smoothed across voxels.
     Sampling sampling = Sampling::Nearest;
     /// Nothing moves more than cfl x (the finest leaf size of any field) in one substep (1e-3..1).
@@ -101,6 +216,23 @@ struct SimulationOptions {
 
     /// Throws OptionError naming the first option out of range.
     void validate() const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("sampling", self.sampling).doc("nearest: the paper's exact leaf forces; trilinear: smoothed across voxels"));
+        visit(field("cfl", self.cfl)
+                  .range(1e-3, 1)
+                  .doc("per substep nothing moves more than cfl x the leaf size of the fields around it, relative to them"));
+        visit(field("domain", self.domain)
+                  .defaultText("all fields' roots and clouds")
+                  .doc("particles leaving it are removed and counted"));
+        visit(field("restPeriod", self.restPeriod)
+                  .range(0, 9998)
+                  .unit("frames")
+                  .doc("dual rest: every particle's rest is reset every restPeriod frames, a second rest half a period "
+                       "later, blended so that no reset shows (an even number); 0: the emitted position for good"));
+    }
 };
 
 struct SimulationSetup {
@@ -120,16 +252,22 @@ struct SimulationSetup {
     /// "objects/1/mass", "clouds/0/count", ...), unique object names and the
     /// particles in all. Throws OptionError.
     void validate() const;
-};
 
-/// Parsers for the scene file's sections (see scenes/README.md). Relative
-/// paths resolve against baseDir. Each checks its struct (validate()) and
-/// reports a failure at its JSON path, before anything is allocated.
-ObjectSpec objectSpecFromJson(const JsonValue& json, const std::string& baseDir);
-CloudSpec cloudSpecFromJson(const JsonValue& json);
-UniformFieldSpec uniformFieldSpecFromJson(const JsonValue& json);
-SimulationOptions simulationOptionsFromJson(const JsonValue& json);
-Transform transformFromJson(const JsonValue& json);
-BBoxd boxFromJson(const JsonValue& json);
+    /// A scene file's keys that shape its simulation.
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(group("frames", "frame numbers and their rate; frame f is at time (f - start) / fps", [&self](auto& frames) {
+            frames(field("start", self.firstFrame).range(0, kMaxFrame).doc("first frame"));
+            frames(field("end", self.lastFrame).range(0, kMaxFrame).doc("last frame, not before start"));
+            frames(field("fps", self.fps).range(1e-3, 1e4).doc("frames per second"));
+        }));
+        visit(field("seed", self.seed).doc("mixed into every cloud's placement"));
+        visit(field("objects", self.objects).required().doc("meshes, static or dynamic, with repulsive fields"));
+        visit(field("clouds", self.clouds).doc("particle clouds"));
+        visit(field("fields", self.fields).doc("uniform acceleration fields: gravity, wind, driving forces"));
+        visit(field("simulation", self.options).doc("sampling, step size, domain, rest"));
+    }
+};
 
 } // namespace vfield

@@ -24,7 +24,7 @@
 /// `vel` is the kernel-weighted mean velocity. Sums run in a fixed order
 /// whatever the thread count, so grids are identical for any number of threads.
 
-#include <vfield/core/json.h>
+#include <vfield/core/fields.h>
 #include <vfield/sim/particles.h>
 
 #include <openvdb/openvdb.h>
@@ -47,6 +47,28 @@ struct VolumeDetail {
 
     bool enabled() const { return voxelSize > 0.0; }
     void validate() const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("voxelSize", self.voxelSize)
+                  .range(0, 1e9)
+                  .unit("world units")
+                  .doc("the detail's voxel, rounded so that it divides volume.voxelSize; 0: no detail"));
+        visit(field("frequency", self.frequency)
+                  .range(1e-9, 1e9)
+                  .unit("1/world units")
+                  .doc("of the coarsest octave, over rest positions"));
+        visit(field("octaves", self.octaves).range(1, 10).doc("noise octaves"));
+        visit(
+            field("amplitude", self.amplitude).range(0, 4).doc("how strongly the noise billows the inside and erodes the edges"));
+        visit(field("edgeSoftness", self.edgeSoftness)
+                  .range(0, 1e12)
+                  .unit("density units")
+                  .defaultText("one lone particle's peak density")
+                  .doc("density over which the edges are eroded; larger erodes deeper; 0: the default"));
+        visit(field("seed", self.seed).doc("noise seed"));
+    }
 };
 
 struct VolumeOptions {
@@ -65,8 +87,27 @@ struct VolumeOptions {
     /// mean radius: the only place the defaults are computed. Unchecked: call
     /// validate() on the result.
     VolumeOptions resolved(double meanParticleRadius) const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("voxelSize", self.voxelSize)
+                  .range(0, 1e9)
+                  .unit("world units")
+                  .defaultText("mean particle radius")
+                  .doc("density voxel size; 0: the default"));
+        visit(field("kernelRadius", self.kernelRadius)
+                  .range(0, 1e9)
+                  .unit("world units")
+                  .defaultText("2 x mean particle radius")
+                  .doc("spread of the kernel: that of the smooth kernel (1 - r^2/R^2)^3 of this radius, at most 32 voxels; 0: "
+                       "the default"));
+        visit(field("densityPerParticle", self.densityPerParticle)
+                  .range(0, 1e12)
+                  .doc("what one particle adds to the density's integral (extinction is density x sigma)"));
+        visit(field("detail", self.detail).doc("noise detail finer than the particles, moving with the cloud"));
+    }
 };
-VolumeOptions volumeOptionsFromJson(const JsonValue& json);
 
 struct DensityGrids {
     openvdb::FloatGrid::Ptr density;
