@@ -4,6 +4,7 @@
 #include "field_mutator.h"
 #include "test_meshes.h"
 
+#include <vfield/scene/inputs_hash.h>
 #include <vfield/scene/scene.h>
 #include <vfield/scene/sim_folder.h>
 

@@ -2,17 +2,14 @@
 
 #include <vfield/core/error.h>
 #include <vfield/core/frame_file.h>
-#include <vfield/render/embree/renderer.h>
-#include <vfield/render/frame_image.h>
-#include <vfield/render/povray/povray_backend.h>
-#include <vfield/render/povray/povray_runner.h>
+#include <vfield/render/camera.h>
+#include <vfield/scene/render_backends.h>
 #include <vfield/scene/sim_folder.h>
 
 #include <vfield/core/atomic_file.h>
 #include <vfield/core/hash.h>
 
 #include <nlohmann/json.hpp>
-#include <tbb/task_arena.h>
 
 #include <chrono>
 #include <filesystem>
@@ -45,7 +42,7 @@ uint64_t renderStamp(const RenderSettings& s, const std::map<int, SurfaceMateria
         h.addValue(int64_t(material.kind));
         h.addValue(material.paint);
     }
-    h.addValue(int64_t(options.backend));
+    h.add(options.backend);
     for (const std::string& format : options.formats) h.add(format);
     return h.value();
 }
@@ -64,42 +61,43 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
     const SimFolder simulation(simulationDir);
     const RenderSettings& settings = scene.render;
     settings.validate();
-    for (const std::string& format : options.formats)
-        if (format != "png" && format != "exr") throw ValueError("unknown image format '" + format + "' (png or exr)");
-    const bool useEmbree = options.backend != RenderBackend::Povray, usePovray = options.backend != RenderBackend::Embree;
-    if (options.backend == RenderBackend::Povray && options.formats != std::vector<std::string>{"png"})
-        throw ValueError("the POV-Ray back-end writes png images only");
-    if (usePovray && settings.image.transparentSky)
-        throw ValueError("a transparent sky is for EXR frames of the Embree back-end; the POV-Ray back-end draws the sky");
-    const bool both = options.backend == RenderBackend::Both;
-    if (both && std::find(options.formats.begin(), options.formats.end(), "png") == options.formats.end())
-        throw ValueError("the side-by-side images of both back-ends are png: include png in the formats");
-    if (usePovray) requirePovray();
 
     // Surfaces once: static meshes into one BVH, dynamic ones as instances.
-    // Embree places a following camera for either back-end.
+    // Embree places a following camera and shadows the cloud for every back-end.
     SurfaceScene surfaces;
-    FrameToRender frame;
-    frame.settings = &settings;
-    frame.surfaces = &surfaces;
+    std::map<int, SurfaceMaterial> materials;
     bool anyDynamic = false;
     std::vector<TriangleMesh> meshes;
+    for (std::size_t i = 0; i < setup.objects.size(); ++i) meshes.push_back(makeMesh(setup.objects[i].mesh));
     for (std::size_t i = 0; i < setup.objects.size(); ++i) {
         const ObjectSpec& object = setup.objects[i];
-        meshes.push_back(makeMesh(object.mesh));
         if (object.isDynamic) {
-            surfaces.addDynamic(int(i), meshes.back());
+            surfaces.addDynamic(int(i), meshes[i]);
             anyDynamic = true;
         } else {
-            surfaces.addStatic(int(i), meshes.back(), object.transform);
+            surfaces.addStatic(int(i), meshes[i], object.transform);
         }
-        frame.materials[int(i)] = surfaceMaterialOf(object);
+        materials[int(i)] = surfaceMaterialOf(object);
     }
     const Tracks tracks = anyDynamic ? simulation.readTracks() : Tracks();
     BBoxd terrainHeights(Vec3d(0.0), Vec3d(1.0));
     if (!surfaces.staticBounds().empty()) terrainHeights = surfaces.staticBounds();
-    frame.terrainLow = terrainHeights.min()[1];
-    frame.terrainHigh = terrainHeights.max()[1];
+
+    BackendSetup backendSetup;
+    backendSetup.scene = &scene;
+    backendSetup.meshes = &meshes;
+    backendSetup.materials = &materials;
+    backendSetup.surfaces = &surfaces;
+    backendSetup.terrainLow = terrainHeights.min()[1];
+    backendSetup.terrainHigh = terrainHeights.max()[1];
+    backendSetup.outputDir = outputDir;
+    backendSetup.formats = options.formats;
+    backendSetup.keepScene = options.keepScene;
+    backendSetup.povrayThreads = options.povrayThreads;
+    const std::unique_ptr<RenderBackend> backend = makeRenderBackend(options.backend, backendSetup);
+    if (options.warning)
+        for (const std::string& line : backend->cannotDraw(settings)) options.warning(line);
+
     const int width = settings.image.width, height = settings.image.height;
     const FirstSurfaceQuery firstSurface = [&surfaces](const Vec3d& origin, const Vec3d& dir, double tMin, double tMax) {
         SurfaceHit hit;
@@ -109,11 +107,10 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
         return surfaces.occluded(origin, dir, 1e-3, std::numeric_limits<double>::max());
     };
 
-    const fs::path out(outputDir);
-    std::unique_ptr<PovrayBackend> povray;
     // Each finished frame's stamp, beside the frames; unreadable: none finished.
+    const fs::path out(outputDir);
     const std::string stampsPath = (out / "render-stamps.json").string();
-    const std::string stamp = std::to_string(renderStamp(settings, frame.materials, options));
+    const std::string stamp = std::to_string(renderStamp(settings, materials, options));
     nlohmann::json stamps = nlohmann::json::object();
     if (fs::exists(stampsPath)) {
         std::ifstream in(stampsPath);
@@ -122,18 +119,10 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
     }
 
     RenderRunSummary summary;
-    double seconds = 0.0, embreeSeconds = 0.0, povraySeconds = 0.0;
+    double seconds = 0.0;
+    bool prepared = false;
     const int total = last - first + 1;
     for (int f = first; f <= last; ++f) {
-        // What this frame writes, by back-end.
-        std::vector<std::string> embreeImages, outputs;
-        for (const std::string& format : options.formats)
-            if (useEmbree) embreeImages.push_back(((both ? out / "embree" : out) / frameFileName("frame", f, format)).string());
-        const std::string povrayImage = ((both ? out / "povray" : out) / frameFileName("frame", f, "png")).string();
-        const std::string sideBySide = (out / frameFileName("frame", f, "png")).string();
-        outputs = embreeImages;
-        if (usePovray) outputs.push_back(povrayImage);
-        if (both) outputs.push_back(sideBySide);
         // Finished: rendered with these settings, and every output exists and
         // is newer than the frame's simulation (a frame simulated again since,
         // after an edit of the scene, is stale).
@@ -143,6 +132,7 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
             return ec ? fs::file_time_type::min() : time;
         };
         const fs::file_time_type simulated = writeTime(simulation.densityFile(f));
+        const std::vector<std::string> outputs = backend->frameFiles(outputDir, f);
         const bool done = stamps.value(std::to_string(f), std::string()) == stamp &&
                           std::all_of(outputs.begin(), outputs.end(),
                                       [&](const std::string& p) { return fs::exists(p) && writeTime(p) >= simulated; });
@@ -151,53 +141,28 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
             continue;
         }
         const auto start = std::chrono::steady_clock::now();
+        if (!prepared) backend->prepare();
+        prepared = true;
         const openvdb::FloatGrid::Ptr density = simulation.readDensity(f);
 
+        FrameView view;
+        view.frame = f;
         std::vector<Transform> followedPath;
-        std::map<int, Transform> poses;
         for (std::size_t i = 0; i < setup.objects.size(); ++i) {
             const ObjectSpec& object = setup.objects[i];
             if (!object.isDynamic) continue;
             const Transform pose = tracks.pose(object.name, f);
             surfaces.setPose(int(i), pose);
-            poses[int(i)] = pose;
+            view.poses[int(i)] = pose;
             if (settings.camera.follow && settings.camera.follow->object == object.name)
                 followedPath = tracks.path(object.name, f);
         }
         surfaces.commit();
-        frame.camera = !followedPath.empty() ? followCamera(settings.camera, followedPath, firstSurface, width, height)
-                                             : Camera::fromSettings(settings.camera, width, height);
-        frame.frame = f;
-
+        view.camera = !followedPath.empty() ? followCamera(settings.camera, followedPath, firstSurface, width, height)
+                                            : Camera::fromSettings(settings.camera, width, height);
         const CloudLighting lighting(density, settings.medium, settings.sun.direction, sunBlocked);
-        const CloudVolume volume(lighting, settings.medium, settings.integrator);
-        if (useEmbree) {
-            const auto embreeStart = std::chrono::steady_clock::now();
-            frame.volume = volume.empty() ? nullptr : &volume;
-            const RenderImage image = renderFrame(frame);
-            for (const std::string& path : embreeImages) writeFrameImage(image, path);
-            embreeSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - embreeStart).count();
-        }
-        if (usePovray) {
-            const auto povrayStart = std::chrono::steady_clock::now();
-            if (!povray) {
-                std::vector<PovrayMesh> povrayMeshes;
-                for (std::size_t i = 0; i < meshes.size(); ++i) {
-                    const ObjectSpec& object = setup.objects[i];
-                    povrayMeshes.push_back({int(i), &meshes[i], surfaceMaterialOf(object),
-                                            object.isDynamic ? std::nullopt : std::optional<Transform>(object.transform)});
-                }
-                PovrayBackendOptions povrayOptions;
-                povrayOptions.workFolder = (out / "povray-scene").string();
-                povrayOptions.keepScene = options.keepScene;
-                povrayOptions.threads = options.povrayThreads.value_or(tbb::this_task_arena::max_concurrency());
-                povray = std::make_unique<PovrayBackend>(povrayMeshes, terrainHeights.min()[1], terrainHeights.max()[1], settings,
-                                                         povrayOptions);
-            }
-            povray->render(f, frame.camera, poses, lighting, povrayImage);
-            povraySeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - povrayStart).count();
-        }
-        if (both) writeSideBySide(((out / "embree") / frameFileName("frame", f, "png")).string(), povrayImage, sideBySide);
+        view.cloud = &lighting;
+        backend->render(view, outputDir);
         stamps[std::to_string(f)] = stamp;
         writeTextAtomically(stampsPath, stamps.dump(1) + "\n");
 
@@ -207,8 +172,7 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
     }
     if (summary.rendered > 0) {
         summary.secondsPerFrame = seconds / summary.rendered;
-        summary.embreeSecondsPerFrame = embreeSeconds / summary.rendered;
-        summary.povraySecondsPerFrame = povraySeconds / summary.rendered;
+        for (const auto& [name, s] : backend->secondsByBackend()) summary.backendSecondsPerFrame[name] = s / summary.rendered;
     }
     return summary;
 }

@@ -2,6 +2,7 @@
 
 #include <vfield/core/error.h>
 #include <vfield/core/vdb_file.h>
+#include <vfield/scene/inputs_hash.h>
 #include <vfield/scene/memory_estimate.h>
 #include <vfield/volume/density_splat.h>
 #include <vfield/volume/particle_grid.h>

@@ -7,6 +7,7 @@
 
 #include <vfield/core/error.h>
 #include <vfield/scene/host_scene.h>
+#include <vfield/scene/render_backends.h>
 #include <vfield/scene/render_run.h>
 #include <vfield/scene/sim_folder.h>
 #include <vfield/scene/simulation_run.h>
@@ -34,7 +35,7 @@ void addRenderOptions(CLI::App& command, RenderCliOptions& o, SceneCliOptions& s
         .add_option("--backend", o.backend,
                     "Renderer: embree (vfield's own), povray (POV-Ray 3.7), or both (adds OUT/embree/, OUT/povray/ and "
                     "side-by-side images)")
-        ->check(CLI::IsMember({"embree", "povray", "both"}))
+        ->check(CLI::IsMember(renderBackendNames()))
         ->capture_default_str();
     command.add_flag("--keep-scene", o.keepScene, "Keep POV-Ray's .pov, .inc and .df3 files in OUT/povray-scene/");
     command
@@ -62,9 +63,7 @@ RenderRunOptions toRunOptions(const RenderCliOptions& o, const CLI::App& command
     for (std::string format; std::getline(list, format, ',');) options.formats.push_back(format);
     options.force = o.force;
     options.keepScene = o.keepScene;
-    options.backend = o.backend == "povray" ? RenderBackend::Povray
-                      : o.backend == "both" ? RenderBackend::Both
-                                            : RenderBackend::Embree;
+    options.backend = o.backend;
     if (command.count("--povray-threads") > 0) options.povrayThreads = o.povrayThreads;
     return options;
 }
@@ -72,6 +71,7 @@ RenderRunOptions toRunOptions(const RenderCliOptions& o, const CLI::App& command
 void renderWithProgress(const Scene& scene, const std::string& simDir, const std::string& output, RenderRunOptions options,
                         const GlobalOptions& global)
 {
+    options.warning = [&global](const std::string& line) { log(global, "warning: " + line); };
     ProgressLine progress(global.quiet);
     options.progress = [&progress](int frame, int done, int total, double seconds) {
         progress.update(done, total, seconds, "(rendered frame " + std::to_string(frame) + ")");
@@ -81,11 +81,20 @@ void renderWithProgress(const Scene& scene, const std::string& simDir, const std
     std::snprintf(line, sizeof line, "rendered %d frames (%.3f s each), skipped %d already complete", summary.rendered,
                   summary.secondsPerFrame, summary.skipped);
     log(global, line);
-    if (options.backend == RenderBackend::Both && summary.rendered > 0) {
-        std::snprintf(line, sizeof line, "seconds per frame: Embree %.3f, POV-Ray %.3f (POV-Ray / Embree = %.1f)",
-                      summary.embreeSecondsPerFrame, summary.povraySecondsPerFrame,
-                      summary.povraySecondsPerFrame / std::max(1e-9, summary.embreeSecondsPerFrame));
-        log(global, line);
+    if (summary.backendSecondsPerFrame.size() > 1) {
+        std::string parts;
+        for (const auto& [name, seconds] : summary.backendSecondsPerFrame) {
+            std::snprintf(line, sizeof line, "%s %.3f", name.c_str(), seconds);
+            parts += (parts.empty() ? "" : ", ") + std::string(line);
+        }
+        if (summary.backendSecondsPerFrame.size() == 2) {
+            const auto& a = *summary.backendSecondsPerFrame.begin();
+            const auto& b = *summary.backendSecondsPerFrame.rbegin();
+            std::snprintf(line, sizeof line, " (%s / %s = %.1f)", b.first.c_str(), a.first.c_str(),
+                          b.second / std::max(1e-9, a.second));
+            parts += line;
+        }
+        log(global, "seconds per frame: " + parts);
     }
 }
 

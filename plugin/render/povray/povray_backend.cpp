@@ -1,9 +1,11 @@
 #include <vfield/render/povray/povray_backend.h>
 
 #include <vfield/core/atomic_file.h>
+#include <vfield/core/error.h>
 #include <vfield/core/frame_file.h>
 #include <vfield/render/povray/povray_runner.h>
 
+#include <chrono>
 #include <filesystem>
 
 namespace fs = std::filesystem;
@@ -16,36 +18,65 @@ constexpr const char* kMeshInclude = "meshes.inc";
 
 } // namespace
 
-PovrayBackend::PovrayBackend(const std::vector<PovrayMesh>& meshes, double terrainLow, double terrainHigh,
+PovrayBackend::PovrayBackend(std::vector<PovrayMesh> meshes, double terrainLow, double terrainHigh,
                              const RenderSettings& settings, const PovrayBackendOptions& options)
-    : mSettings(settings), mOptions(options)
+    : mMeshes(std::move(meshes)), mTerrainLow(terrainLow), mTerrainHigh(terrainHigh), mSettings(settings), mOptions(options)
 {
-    for (const PovrayMesh& mesh : meshes)
+    if (settings.image.transparentSky)
+        throw ValueError("a transparent sky is for EXR frames of the Embree back-end; the POV-Ray back-end draws the sky");
+    requirePovray();
+    for (const PovrayMesh& mesh : mMeshes)
         if (mesh.placement) mStaticObjects.push_back(mesh.object);
-    writeTextAtomically((fs::path(mOptions.workFolder) / kMeshInclude).string(),
-                        povrayMeshesText(meshes, terrainLow, terrainHigh));
 }
 
 PovrayBackend::~PovrayBackend()
 {
-    if (mOptions.keepScene) return;
+    if (!mPrepared || mOptions.keepScene) return;
     std::error_code ignored; // a folder still holding files (a failed frame's) stays
     fs::remove(fs::path(mOptions.workFolder) / kMeshInclude, ignored);
     fs::remove(mOptions.workFolder, ignored);
 }
 
-void PovrayBackend::render(int frame, const Camera& camera, const std::map<int, Transform>& poses, const CloudLighting& cloud,
-                           const std::string& imagePath)
+std::vector<std::string> PovrayBackend::cannotDraw(const RenderSettings& s) const
 {
+    std::vector<std::string> lines;
+    if (s.sky.hazeDistance > 0.0) lines.push_back("povray cannot draw haze (sky.hazeDistance): its frames show clear air");
+    if (s.medium.backWeight > 0.0)
+        lines.push_back(
+            "povray cannot draw the phase's backward lobe (render.backWeight): it scatters with the forward lobe only");
+    if (s.integrator.multipleScattering.octaves > 1)
+        lines.push_back("povray cannot draw light scattered more than once (render.multipleScattering): its media scatter once");
+    if (s.integrator.kind == IntegratorKind::Reference)
+        lines.push_back(
+            "povray cannot draw with the reference path tracer (render.integrator): it samples its media its own way");
+    return lines;
+}
+
+std::vector<std::string> PovrayBackend::frameFiles(const std::string& out, int frame) const
+{
+    return {(fs::path(out) / frameFileName("frame", frame, "png")).string()};
+}
+
+void PovrayBackend::prepare()
+{
+    writeTextAtomically((fs::path(mOptions.workFolder) / kMeshInclude).string(),
+                        povrayMeshesText(mMeshes, mTerrainLow, mTerrainHigh));
+    mPrepared = true;
+}
+
+void PovrayBackend::render(const FrameView& view, const std::string& out)
+{
+    const auto start = std::chrono::steady_clock::now();
+    const CloudLighting& cloud = *view.cloud;
     PovrayFrame pov;
     pov.settings = &mSettings;
-    pov.camera = camera;
-    pov.frame = frame;
+    pov.camera = view.camera;
+    pov.frame = view.frame;
     pov.meshInclude = kMeshInclude;
     pov.staticObjects = mStaticObjects;
-    pov.dynamicPoses = poses;
-    const std::string df3 = frameFileName("density", frame, "df3"), skyLitDf3 = frameFileName("sky_lit", frame, "df3"),
-                      scene = frameFileName("frame", frame, "pov"), rendered = frameFileName("render", frame, "png");
+    pov.dynamicPoses = view.poses;
+    const std::string df3 = frameFileName("density", view.frame, "df3"), skyLitDf3 = frameFileName("sky_lit", view.frame, "df3"),
+                      scene = frameFileName("frame", view.frame, "pov"), rendered = frameFileName("render", view.frame, "png");
     const fs::path folder(mOptions.workFolder);
     if (!cloud.density().empty()) {
         PovrayCloud medium;
@@ -62,10 +93,12 @@ void PovrayBackend::render(int frame, const Camera& camera, const std::map<int, 
         mOptions.keepScene = true; // a failed frame's scene files and log stay for inspection
         throw;
     }
-    fs::create_directories(fs::path(imagePath).parent_path());
-    fs::rename(folder / rendered, imagePath);
+    const std::string image = frameFiles(out, view.frame).front();
+    fs::create_directories(fs::path(image).parent_path());
+    fs::rename(folder / rendered, image);
     if (!mOptions.keepScene)
         for (const std::string& file : {df3, skyLitDf3, scene, rendered + ".log"}) fs::remove(folder / file);
+    mSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 } // namespace vfield

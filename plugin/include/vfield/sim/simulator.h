@@ -28,6 +28,7 @@
 
 #include <vfield/field/repulsion_field.h>
 #include <vfield/mesh/mesh_distance.h>
+#include <vfield/sim/flight.h>
 #include <vfield/sim/particles.h>
 #include <vfield/sim/scene_setup.h>
 
@@ -54,14 +55,6 @@ struct SimObject {
     /// extent, the whole inside), where particles make contact and where
     /// objects are measured. Null otherwise.
     std::shared_ptr<MeshDistance> distance;
-};
-
-/// A dynamic object's state at a frame.
-struct DynamicState {
-    Transform pose;      ///< pivot = the mesh's object-space origin
-    Vec3d velocity{0.0}; ///< world units / s
-    double roll = 0.0;   ///< radians about the nose; negative: left wing up (banking into a right turn)
-    double pitch = 0.0;  ///< radians, nose up
 };
 
 /// What one frame's step did.

@@ -1,13 +1,16 @@
 #pragma once
 /// @file povray_backend.h
-/// Frames through POV-Ray 3.7: the scene's meshes written once into a shared
-/// include in a work folder; per frame a .pov scene and the cloud's df3 files
-/// beside it, POV-Ray run on them (povray_runner.h), and its image moved to
-/// where the caller wants it. Scene files are removed after each frame unless
-/// kept; a failed frame always keeps its files and log for inspection.
+/// Frames through POV-Ray 3.7, as a RenderBackend: the scene's meshes written
+/// once into a shared include in a work folder; per frame a .pov scene and the
+/// cloud's df3 files beside it, POV-Ray run on them (povray_runner.h), and
+/// its image moved to OUT/frame.####.png. Scene files are removed after each
+/// frame unless kept; a failed frame always keeps its files and log for
+/// inspection. POV-Ray scatters once, with the phase's forward lobe, and
+/// draws no haze: cannotDraw() says so for the settings that ask for more.
 
 #include <vfield/render/cloud_lighting.h>
 #include <vfield/render/povray/povray_scene.h>
+#include <vfield/render/render_backend.h>
 
 #include <string>
 #include <vector>
@@ -20,25 +23,34 @@ struct PovrayBackendOptions {
     int threads = 1;        ///< POV-Ray's render threads (1: reproducible media noise)
 };
 
-class PovrayBackend {
+class PovrayBackend : public RenderBackend {
 public:
-    /// Writes the meshes' include into the work folder. settings (image size
-    /// and samples, sun, sky, medium, integrator) must outlive the back-end.
-    PovrayBackend(const std::vector<PovrayMesh>& meshes, double terrainLow, double terrainHigh, const RenderSettings& settings,
+    /// settings (image size and samples, sun, sky, medium, integrator) and
+    /// the meshes must outlive the back-end. Throws ValueError for settings
+    /// it cannot honour at all (a transparent sky), and FileError when
+    /// POV-Ray is not installed.
+    PovrayBackend(std::vector<PovrayMesh> meshes, double terrainLow, double terrainHigh, const RenderSettings& settings,
                   const PovrayBackendOptions& options);
-    ~PovrayBackend();
+    ~PovrayBackend() override;
     PovrayBackend(const PovrayBackend&) = delete;
     PovrayBackend& operator=(const PovrayBackend&) = delete;
 
-    /// Renders one frame to imagePath (PNG): static meshes where the include
-    /// placed them, dynamic ones at poses (with their scale), the lit cloud.
-    void render(int frame, const Camera& camera, const std::map<int, Transform>& poses, const CloudLighting& cloud,
-                const std::string& imagePath);
+    std::string name() const override { return "povray"; }
+    std::vector<std::string> cannotDraw(const RenderSettings& settings) const override;
+    std::vector<std::string> frameFiles(const std::string& out, int frame) const override;
+    /// Writes the meshes' include into the work folder.
+    void prepare() override;
+    /// Static meshes where the include placed them, dynamic ones at the
+    /// frame's poses (with their scale), the lit cloud.
+    void render(const FrameView& frame, const std::string& out) override;
 
 private:
+    std::vector<PovrayMesh> mMeshes;
+    double mTerrainLow, mTerrainHigh;
     const RenderSettings& mSettings;
     PovrayBackendOptions mOptions;
     std::vector<int> mStaticObjects;
+    bool mPrepared = false;
 };
 
 } // namespace vfield

@@ -51,7 +51,6 @@ struct PovrayCloud {
     Df3Placement placement;
     std::string skyLitDf3File; ///< density x sky transmittance, on the same cells
     Df3Placement skyLitPlacement;
-    double volumeStep = 0.5; ///< world units between media samples
 };
 
 struct PovrayFrame {

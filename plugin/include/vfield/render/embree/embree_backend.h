@@ -1,0 +1,41 @@
+#pragma once
+/// @file embree_backend.h
+/// vfield's own renderer as a RenderBackend: surfaces through Embree (a
+/// SurfaceScene the run builds once and places its dynamic objects in each
+/// frame), the cloud through OpenVDB, with the settings' integrator (fast or
+/// reference). Writes OUT/frame.####.png and/or .exr (frame_image.h).
+
+#include <vfield/render/embree/surfaces.h>
+#include <vfield/render/materials.h>
+#include <vfield/render/render_backend.h>
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace vfield {
+
+class EmbreeBackend : public RenderBackend {
+public:
+    /// settings and surfaces must outlive the back-end; the caller places
+    /// the dynamic objects in surfaces (and commits) before each frame.
+    /// formats: "png" and/or "exr". terrainLow/High: heights the terrain's
+    /// colours span. Throws ValueError for an unknown format.
+    EmbreeBackend(const RenderSettings& settings, const SurfaceScene& surfaces, std::map<int, SurfaceMaterial> materials,
+                  double terrainLow, double terrainHigh, std::vector<std::string> formats);
+
+    std::string name() const override { return "embree"; }
+    std::vector<std::string> cannotDraw(const RenderSettings&) const override { return {}; }
+    std::vector<std::string> frameFiles(const std::string& out, int frame) const override;
+    void prepare() override {}
+    void render(const FrameView& frame, const std::string& out) override;
+
+private:
+    const RenderSettings& mSettings;
+    const SurfaceScene& mSurfaces;
+    std::map<int, SurfaceMaterial> mMaterials;
+    double mTerrainLow, mTerrainHigh;
+    std::vector<std::string> mFormats;
+};
+
+} // namespace vfield

@@ -1,0 +1,31 @@
+#pragma once
+/// @file run_state.h
+/// state.bin: what a resumed run needs, written last after every frame (it
+/// marks the frame complete): the simulator's state after that frame, the
+/// records and tracks so far, and what made them: the scene file and the
+/// hash of the simulation's inputs (inputs_hash.h).
+
+#include <vfield/scene/stats_file.h>
+#include <vfield/scene/tracks.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace vfield {
+
+struct RunState {
+    std::string scenePath; ///< absolute
+    uint64_t inputsHash = 0;
+    std::string simulatorState; ///< Simulator::serializeState()
+    std::vector<FrameRecord> records;
+    Tracks tracks;
+};
+
+/// state.bin's bytes.
+std::string runStateBytes(const RunState& state);
+/// Reads state.bin's bytes (path names it in errors). Throws FileError for
+/// another version's state or a corrupt or truncated one.
+RunState runStateFromBytes(const std::string& bytes, const std::string& path);
+
+} // namespace vfield

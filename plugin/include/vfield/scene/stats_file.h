@@ -1,0 +1,55 @@
+#pragma once
+/// @file stats_file.h
+/// stats.json: how each object's field was made, and per frame what the
+/// simulation did and measured (particles alive and removed, substeps,
+/// contacts, clearances against every mesh, timings).
+
+#include <vfield/core/math.h>
+#include <vfield/sim/clearance.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace vfield {
+
+/// How an object's repulsive field was made, as the last run built it.
+struct FieldRecord {
+    std::string object;
+    std::string method;        ///< enumName(RepulsionMethod)
+    double buildSeconds = 0.0; ///< wall clock, building and voxelizing
+    uint64_t memoryBytes = 0;  ///< RepulsionField::memoryBytes()
+    double finestCell = 0.0;   ///< world units
+};
+
+/// One frame's line of stats.json.
+struct FrameRecord {
+    int frame = 0;
+    uint64_t alive = 0, removed = 0, substeps = 0, contacts = 0;
+    uint64_t endedInside = 0; ///< particle substeps that ended inside a dynamic object (StepStats)
+    uint32_t maxSubsteps = 0, dynamicSubsteps = 0;
+    double maxRollChange = 0.0;             ///< degrees, the most any dynamic object rolled over the frame
+    double seconds = 0.0;                   ///< wall clock of simulating and measuring the frame
+    ClearanceStats particleClearance;       ///< the particles against every object
+    std::vector<PairClearance> objectPairs; ///< every dynamic object against every other: closest over the frame's substeps
+    Vec3d centroid{0.0};                    ///< mean particle position, world units
+    BBoxd bounds;                           ///< box of the particles (empty without particles)
+};
+
+/// stats.json.
+struct StatsFile {
+    double fps = 24.0;
+    std::vector<FieldRecord> fields;
+    std::vector<FrameRecord> frames;
+};
+
+std::string statsJsonText(const StatsFile& stats);
+/// Reads stats.json text (path names it in errors). Throws FileError.
+StatsFile statsFromJsonText(const std::string& text, const std::string& path);
+
+/// The frames' records alone, as a run state keeps them.
+std::string frameRecordsJsonText(const std::vector<FrameRecord>& records);
+/// Throws FileError naming path.
+std::vector<FrameRecord> frameRecordsFromJsonText(const std::string& text, const std::string& path);
+
+} // namespace vfield

@@ -1,0 +1,265 @@
+// The particle integrator: each particle's own substeps through the sum of
+// the fields, bounded by the cells around it, with contact against dynamic
+// objects' closed meshes.
+
+#include <vfield/sim/simulator.h>
+
+#include <vfield/sim/motion.h>
+
+#include <openvdb/tools/Interpolation.h>
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace vfield {
+
+namespace {
+
+/// Frames between spatial sorts of the particles: a sort costs about one
+/// frame's advection, and in a few frames particles drift too little to spoil
+/// the order for the density splat, whose speed depends on it (10x).
+constexpr int kSortInterval = 8;
+
+/// Unrotated objects (terrain, as a rule) skip the rotations, which would change nothing.
+bool isRotated(const Transform& pose)
+{
+    const Quatd& q = pose.rotation;
+    return !(q.w() == 1.0 && q.x() == 0.0 && q.y() == 0.0 && q.z() == 0.0);
+}
+
+Vec3d objectPoint(const Transform& pose, const Vec3d& world)
+{
+    return isRotated(pose) ? pose.objectFromWorld(world) : (world - pose.translation) / pose.scale;
+}
+
+} // namespace
+
+Vec3d Simulator::uniformAcceleration(const std::vector<std::size_t>& fields, const Vec3d& p) const
+{
+    Vec3d a(0.0);
+    for (const std::size_t f : fields) a += mSetup.fields[f].accelerationAt(p);
+    return a;
+}
+
+Vec3d Simulator::repulsion(const Vec3d& p, double time, double mass, openvdb::Vec3SGrid::ConstAccessor* accessors) const
+{
+    Vec3d force(0.0), flow(0.0);
+    for (std::size_t k = 0; k < mRepulsive.size(); ++k) {
+        const std::size_t i = mRepulsive[k];
+        const SimObject& object = mObjects[i];
+        const Transform pose = object.spec->isDynamic ? poseAt(i, time) : mStates[i].pose;
+        const bool rotated = isRotated(pose);
+        const Vec3d local = objectPoint(pose, p);
+        if (!object.field->bounds().isInside(local)) continue;
+        const openvdb::Vec3d index = object.field->force()->transform().worldToIndex(local);
+        openvdb::Vec3s f;
+        if (mSetup.options.sampling == SimulationOptions::Sampling::Nearest)
+            openvdb::tools::PointSampler::sample(accessors[k], index, f);
+        else openvdb::tools::BoxSampler::sample(accessors[k], index, f);
+        const Vec3d world = rotated ? pose.rotateToWorld(Vec3d(f)) : Vec3d(f);
+        (object.field->isFlow() ? flow : force) += world;
+    }
+    return force / mass + flow;
+}
+
+void Simulator::measureFieldSpeeds(double t0, double t1)
+{
+    mFieldFrameTime = t1 - t0;
+    mFieldSpeed.assign(mRepulsive.size(), 0.0);
+    if (!(t1 > t0)) return;
+    for (std::size_t k = 0; k < mRepulsive.size(); ++k) {
+        const std::size_t i = mRepulsive[k];
+        if (!mObjects[i].spec->isDynamic) continue;
+        // The farthest any corner of the root moves over the frame bounds every point's motion.
+        const Transform& a = mStatesAtFrameStart[i].pose;
+        const Transform& b = mStates[i].pose;
+        const BBoxd& root = mObjects[i].field->bounds();
+        double travel = 0.0;
+        for (int corner = 0; corner < 8; ++corner) {
+            const Vec3d c = boxCorner(root, corner);
+            travel = std::max(travel, (b.worldFromObject(c) - a.worldFromObject(c)).length());
+        }
+        mFieldSpeed[k] = travel / (t1 - t0);
+    }
+}
+
+Simulator::LocalBound Simulator::localBound(const Vec3d& p, double time, openvdb::Int32Grid::ConstAccessor* levels) const
+{
+    LocalBound bound;
+    bool inAnyField = false;
+    double cell = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < mRepulsive.size(); ++k) {
+        const std::size_t i = mRepulsive[k];
+        const SimObject& object = mObjects[i];
+        const Transform pose = object.spec->isDynamic ? poseAt(i, time) : mStates[i].pose;
+        const Vec3d local = objectPoint(pose, p);
+        const RepulsionField& field = *object.field;
+        // A moving field reaches whatever its root sweeps over during the frame.
+        const double sweep = k < mFieldSpeed.size() ? mFieldSpeed[k] * mFieldFrameTime / pose.scale : 0.0;
+        BBoxd reach = field.bounds();
+        reach.expand(sweep);
+        if (!reach.isInside(local)) continue;
+        inAnyField = true;
+        // The leaf's level from the voxel holding p: finest-leaf voxels never straddle a leaf.
+        const int level =
+            field.bounds().isInside(local)
+                ? std::max(levels[k].getValue(openvdb::Coord::round(field.level()->transform().worldToIndex(local))), 1)
+                : field.depth();
+        cell = std::min(cell, field.cellSize(level) * pose.scale);
+        if (k < mFieldSpeed.size()) bound.fieldSpeed = std::max(bound.fieldSpeed, mFieldSpeed[k]);
+    }
+    if (inAnyField) bound.cell = cell;
+    return bound;
+}
+
+bool Simulator::resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t, double dt,
+                                std::vector<MeshDistance::Accessor>& accessors) const
+{
+    bool touched = false;
+    for (std::size_t k = 0; k < mContact.size(); ++k) {
+        const std::size_t i = mContact[k];
+        const MeshDistance& distance = *mObjects[i].distance;
+        const Transform before = poseAt(i, t), after = poseAt(i, t + dt);
+        // The substep's path as the object sees it, sampled a voxel apart.
+        const Vec3d a = before.objectFromWorld(from), b = after.objectFromWorld(x);
+        BBoxd path(a, a);
+        path.expand(b);
+        if (!path.hasOverlap(distance.reach())) continue;
+        const double skin = distance.voxelSize();
+        const int samples = std::max(1, int(std::ceil((b - a).length() / skin)));
+        int hit = -1;
+        for (int s = 0; s <= samples && hit < 0; ++s)
+            if (distance.distance(accessors[k], a + (b - a) * (double(s) / samples)) < 0.5 * skin) hit = s;
+        if (hit < 0) continue;
+        // Stop where the path reached the surface; a particle that began on
+        // or in it (rounding, or a rotation sweeping over it) is pushed out
+        // along the gradient.
+        Vec3d local = a + (b - a) * (double(std::max(hit - 1, 0)) / samples);
+        for (int iteration = 0; iteration < 8; ++iteration) {
+            const double d = distance.distance(accessors[k], local);
+            if (d >= 0.5 * skin) break;
+            const Vec3d normal = distance.gradient(accessors[k], local);
+            if (normal.lengthSqr() < 1e-12) break;
+            local += normal.unitSafe() * (skin - d);
+        }
+        x = after.worldFromObject(local);
+        const Vec3d normal = after.rotateToWorld(distance.gradient(accessors[k], local)).unitSafe();
+        const Vec3d surfaceVelocity = (x - before.worldFromObject(local)) / dt;
+        const double approach = (v - surfaceVelocity).dot(normal);
+        if (approach < 0.0) v -= normal * approach;
+        touched = true;
+    }
+    return touched;
+}
+
+bool Simulator::inFlow(const Vec3d& p, openvdb::Int32Grid::ConstAccessor* levels) const
+{
+    for (const std::size_t k : mFlow) {
+        const RepulsionField& field = *mObjects[mRepulsive[k]].field;
+        const Vec3d local = objectPoint(mStates[mRepulsive[k]].pose, p); // flows are static
+        if (field.bounds().isInside(local) &&
+            levels[k].getValue(openvdb::Coord::round(field.level()->transform().worldToIndex(local))) > 0)
+            return true;
+    }
+    return false;
+}
+
+bool Simulator::endsInside(const Vec3d& x, double t, std::vector<MeshDistance::Accessor>& accessors) const
+{
+    for (std::size_t k = 0; k < mContact.size(); ++k) {
+        const MeshDistance& distance = *mObjects[mContact[k]].distance;
+        const Vec3d local = poseAt(mContact[k], t).objectFromWorld(x);
+        if (distance.reach().isInside(local) && distance.distance(accessors[k], local) < 0.0) return true;
+    }
+    return false;
+}
+
+void Simulator::advanceParticles(double t0, double t1)
+{
+    // Re-sorted every few frames (particles drift little in between), so
+    // that splats read them in order: see kSortInterval.
+    if (mFrame % kSortInterval == 0) mParticles.sortSpatially(mDomain);
+    const std::size_t n = mParticles.size();
+    std::vector<uint8_t> alive(n, 1);
+    std::vector<uint32_t> substepsOf(n, 0), contactsOf(n, 0), insideOf(n, 0);
+    const double cfl = mSetup.options.cfl;
+    measureFieldSpeeds(t0, t1);
+
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& range) {
+        std::vector<openvdb::Vec3SGrid::ConstAccessor> accessors;
+        std::vector<openvdb::Int32Grid::ConstAccessor> levels;
+        for (const std::size_t i : mRepulsive) {
+            accessors.push_back(mObjects[i].field->force()->getConstAccessor());
+            levels.push_back(mObjects[i].field->level()->getConstAccessor());
+        }
+        std::vector<MeshDistance::Accessor> distances;
+        for (const std::size_t i : mContact) distances.push_back(mObjects[i].distance->accessor());
+        for (std::size_t p = range.begin(); p != range.end(); ++p) {
+            const CloudSpec& cloud = mSetup.clouds[mParticles.cloud[p]];
+            const std::vector<std::size_t>& fields = mCloudFields[mParticles.cloud[p]];
+            Vec3d x(mParticles.position[p]), v(mParticles.velocity[p]);
+            double t = t0;
+            uint32_t steps = 0;
+            while (t < t1) {
+                Vec3d a = uniformAcceleration(fields, x);
+                a += repulsion(x, t, cloud.mass, accessors.data());
+                // In a potential flow's band the particle moves with the flow:
+                // at the terminal velocity of what acts on it, without inertia.
+                const bool carried = inFlow(x, levels.data());
+                if (carried) v = a / cloud.drag;
+                // Each move stays within cfl of the cells around the particle,
+                // counting the motion of fields sweeping over it; where the
+                // step would end in finer cells, those bound it too.
+                const LocalBound here = localBound(x, t, levels.data());
+                double dt = std::min(t1 - t, stepLimit(v.length() + here.fieldSpeed, a.length(), cfl * here.cell));
+                const LocalBound there = localBound(x + v * dt, t + dt, levels.data());
+                if (there.cell < here.cell || there.fieldSpeed > here.fieldSpeed)
+                    dt = std::min(dt, stepLimit(v.length() + std::max(here.fieldSpeed, there.fieldSpeed), a.length(),
+                                                cfl * std::min(here.cell, there.cell)));
+                dt = std::max(dt, 1e-9 * (t1 - t0));
+                const Vec3d from = x;
+                if (carried) x += v * dt;
+                else integrateWithDrag(x, v, a, cloud.drag, dt);
+                if (!mContact.empty()) {
+                    if (resolveContacts(from, x, v, t, dt, distances)) ++contactsOf[p];
+                    if (endsInside(x, t + dt, distances)) ++insideOf[p];
+                }
+                t = (t1 - t <= dt) ? t1 : t + dt;
+                ++steps;
+                if (!mDomain.isInside(x)) {
+                    alive[p] = 0;
+                    break;
+                }
+            }
+            mParticles.position[p] = Vec3f(x);
+            mParticles.velocity[p] = Vec3f(v);
+            substepsOf[p] = steps;
+        }
+    });
+
+    for (std::size_t p = 0; p < n; ++p) {
+        mLastStep.substeps += substepsOf[p];
+        mLastStep.maxSubsteps = std::max(mLastStep.maxSubsteps, substepsOf[p]);
+        mLastStep.contacts += contactsOf[p];
+        mLastStep.endedInside += insideOf[p];
+        if (!alive[p]) ++mLastStep.removed;
+    }
+    mRemovedTotal += mLastStep.removed;
+    if (mLastStep.removed > 0) mParticles.keep(alive);
+}
+
+void Simulator::updateRestPositions()
+{
+    const int period = mSetup.options.restPeriod;
+    if (period == 0) return;
+    // Each rest is reset where its weight is zero: `rest` at the period's
+    // start, rest2 half a period later; the weights ramp linearly between.
+    const int age = (mFrame - mSetup.firstFrame) % period;
+    if (age == 0) mParticles.rest = mParticles.position;
+    if (age == period / 2 || mParticles.rest2.empty()) mParticles.rest2 = mParticles.position;
+    mParticles.rest2Weight = float(std::abs(1.0 - 2.0 * age / period));
+}
+
+} // namespace vfield

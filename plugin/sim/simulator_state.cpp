@@ -1,0 +1,127 @@
+// The simulator's state after a frame as bytes, to resume from bit-exactly.
+
+#include <vfield/sim/simulator.h>
+
+#include <vfield/core/error.h>
+
+#include <cstring>
+
+namespace vfield {
+
+namespace {
+
+template<typename T>
+void put(std::string& out, const T& value)
+{
+    out.append(reinterpret_cast<const char*>(&value), sizeof value);
+}
+
+template<typename T>
+void putVector(std::string& out, const std::vector<T>& values)
+{
+    put(out, uint64_t(values.size()));
+    out.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+}
+
+class Reader {
+public:
+    explicit Reader(const std::string& bytes) : mBytes(bytes) {}
+    template<typename T>
+    T get()
+    {
+        T value;
+        need(sizeof value);
+        std::memcpy(&value, mBytes.data() + mAt, sizeof value);
+        mAt += sizeof value;
+        return value;
+    }
+    template<typename T>
+    void getVector(std::vector<T>& values)
+    {
+        const auto n = get<uint64_t>();
+        need(n * sizeof(T));
+        values.resize(n);
+        std::memcpy(values.data(), mBytes.data() + mAt, n * sizeof(T));
+        mAt += n * sizeof(T);
+    }
+    bool atEnd() const { return mAt == mBytes.size(); }
+
+private:
+    void need(uint64_t n) const
+    {
+        if (n > mBytes.size() - mAt) throw ValueError("the saved simulation state is truncated");
+    }
+    const std::string& mBytes;
+    std::size_t mAt = 0;
+};
+
+constexpr uint64_t kStateMagic = 0x3374617473646676ull; // "vfdstat3"
+
+} // namespace
+
+std::string Simulator::serializeState() const
+{
+    std::string out;
+    put(out, kStateMagic);
+    put(out, int32_t(mFrame));
+    put(out, mRemovedTotal);
+    put(out, uint64_t(mStates.size()));
+    for (const DynamicState& s : mStates) {
+        put(out, s.pose.translation);
+        put(out, s.pose.rotation);
+        put(out, s.pose.scale);
+        put(out, s.velocity);
+        put(out, s.roll);
+        put(out, s.pitch);
+    }
+    putVector(out, mParticles.position);
+    putVector(out, mParticles.velocity);
+    putVector(out, mParticles.rest);
+    putVector(out, mParticles.rest2);
+    putVector(out, mParticles.id);
+    putVector(out, mParticles.radius);
+    putVector(out, mParticles.cloud);
+    return out;
+}
+
+void Simulator::restoreState(const std::string& bytes)
+{
+    Reader in(bytes);
+    if (in.get<uint64_t>() != kStateMagic) throw ValueError("not a vfield simulation state");
+    const int frame = in.get<int32_t>();
+    const auto removed = in.get<uint64_t>();
+    if (in.get<uint64_t>() != mStates.size()) throw ValueError("the saved state is of another scene (object count)");
+    std::vector<DynamicState> states(mStates.size());
+    for (DynamicState& s : states) {
+        s.pose.translation = in.get<Vec3d>();
+        s.pose.rotation = in.get<Quatd>();
+        s.pose.scale = in.get<double>();
+        s.velocity = in.get<Vec3d>();
+        s.roll = in.get<double>();
+        s.pitch = in.get<double>();
+    }
+    ParticleSet particles;
+    in.getVector(particles.position);
+    in.getVector(particles.velocity);
+    in.getVector(particles.rest);
+    in.getVector(particles.rest2);
+    in.getVector(particles.id);
+    in.getVector(particles.radius);
+    in.getVector(particles.cloud);
+    const std::size_t n = particles.size();
+    if (!in.atEnd() || particles.velocity.size() != n || particles.rest.size() != n ||
+        particles.rest2.size() != (mSetup.options.restPeriod == 0 ? 0 : n) || particles.id.size() != n ||
+        particles.radius.size() != n || particles.cloud.size() != n)
+        throw ValueError("the saved simulation state is inconsistent");
+    for (const uint16_t c : particles.cloud)
+        if (c >= mSetup.clouds.size()) throw ValueError("the saved state is of another scene (cloud index)");
+    if (frame < mSetup.firstFrame || frame > mSetup.lastFrame) throw ValueError("the saved state's frame is out of range");
+    mFrame = frame;
+    mRemovedTotal = removed;
+    mStates = std::move(states);
+    mStatesAtFrameStart = mStates;
+    mParticles = std::move(particles);
+    updateRestPositions();
+}
+
+} // namespace vfield

@@ -1,0 +1,162 @@
+// A simulation folder resumes to the same result as an uninterrupted run, is
+// simulated afresh after an edit, and gives the same grids for any thread count.
+
+#include "sim_test_scenes.h"
+#include "test_meshes.h"
+
+#include <vfield/core/vdb_file.h>
+#include <vfield/render/camera.h>
+#include <vfield/scene/inputs_hash.h>
+#include <vfield/scene/run_metrics.h>
+#include <vfield/scene/simulation_run.h>
+#include <vfield/sim/clearance.h>
+#include <vfield/sim/simulator.h>
+
+#include <catch2/catch.hpp>
+
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <random>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+using namespace vfield;
+
+TEST_CASE("simulator: the same scene gives the same grids for 1 and 2 threads", "[sim][determinism]")
+{
+    const Scene scene = test::showcaseAtTestResolution("cloud_over_terrain.json", 3000, 30);
+    const std::string one = test::scratchDir("threads-1"), two = test::scratchDir("threads-2");
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+        simulateScene(scene, one);
+    }
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+        simulateScene(scene, two);
+    }
+    for (const std::string name : {"field.vdb", "density.0030.vdb", "particles.0030.vdb", "density.0011.vdb"}) {
+        const openvdb::GridPtrVec a = readVdb(one + "/" + name), b = readVdb(two + "/" + name);
+        REQUIRE(a.size() == b.size());
+        for (std::size_t i = 0; i < a.size(); ++i) {
+            INFO(name << " grid " << a[i]->getName());
+            CHECK(gridChecksum(*a[i]) == gridChecksum(*b[i]));
+        }
+    }
+}
+
+TEST_CASE("simulator: a killed run resumes and ends as an uninterrupted one", "[sim][resume]")
+{
+    Scene scene = test::showcaseAtTestResolution("cloud_over_terrain.json", 2000, 24);
+    scene.simulation.options.restPeriod = 6; // both rests reset before and after the kill
+    const std::string whole = test::scratchDir("resume-whole"), killed = test::scratchDir("resume-killed");
+    simulateScene(scene, whole);
+
+    // "Kill" the run after frame 10: the progress callback throws out of it.
+    SimulateOptions stopAt10;
+    stopAt10.progress = [](const FrameProgress& p) {
+        if (p.frame == 10) throw std::runtime_error("killed");
+    };
+    CHECK_THROWS_WITH(simulateScene(scene, killed, stopAt10), "killed");
+    CHECK(std::filesystem::exists(killed + "/density.0010.vdb"));
+    CHECK_FALSE(std::filesystem::exists(killed + "/density.0011.vdb"));
+
+    const SimulateSummary resumed = simulateScene(scene, killed);
+    CHECK(resumed.resumedAfterFrame == 10);
+    CHECK(resumed.frames.size() == 24);
+    for (const std::string name : {"density.0024.vdb", "particles.0024.vdb", "density.0011.vdb"}) {
+        const openvdb::GridPtrVec a = readVdb(whole + "/" + name), b = readVdb(killed + "/" + name);
+        for (std::size_t i = 0; i < a.size(); ++i) CHECK(gridChecksum(*a[i]) == gridChecksum(*b[i]));
+    }
+    // No temporary files are left behind.
+    for (const auto& entry : std::filesystem::directory_iterator(killed))
+        CHECK(entry.path().filename().string().find(".tmp-") == std::string::npos);
+}
+
+TEST_CASE("simulator: an output folder of another scene file is refused", "[sim][resume]")
+{
+    const std::string dir = test::scratchDir("other-scene");
+    const Scene scene = test::showcaseAtTestResolution("cloud_over_terrain.json", 100, 2);
+    simulateScene(scene, dir);
+    Scene other = scene;
+    other.path = dir + "/elsewhere.json";
+    CHECK_THROWS_WITH(simulateScene(other, dir), Catch::Contains("holds a simulation of another scene"));
+}
+
+TEST_CASE("simulator: an edited scene is simulated afresh, leaving no stale frame", "[sim][resume]")
+{
+    const std::string dir = test::scratchDir("edited-scene");
+    simulateScene(test::showcaseAtTestResolution("cloud_over_terrain.json", 100, 3), dir);
+    REQUIRE(std::filesystem::exists(dir + "/density.0003.vdb"));
+    const SimulateSummary edited = simulateScene(test::showcaseAtTestResolution("cloud_over_terrain.json", 101, 2), dir);
+    CHECK(edited.restartedStale);
+    CHECK(edited.resumedAfterFrame == -1);
+    CHECK(edited.frames.size() == 2);
+    CHECK(edited.frames.back().alive == 101);
+    CHECK_FALSE(std::filesystem::exists(dir + "/density.0003.vdb"));
+    // Every key that changes where particles start counts, the cloud's billow too.
+    Scene billowed = test::showcaseAtTestResolution("cloud_over_terrain.json", 101, 2);
+    billowed.simulation.clouds[0].billow = 0.3;
+    CHECK(simulateScene(billowed, dir).restartedStale);
+    // And so does every key that changes the rest positions written.
+    billowed.simulation.options.restPeriod = 2;
+    CHECK(simulateScene(billowed, dir).restartedStale);
+}
+
+TEST_CASE("simulator: editing how a scene looks keeps its simulation resumable", "[sim][resume]")
+{
+    const auto hash = [](const std::string& text) {
+        const Scene scene = parseScene(text, "a.json");
+        return simulationInputsHash(scene.simulation, scene.volume);
+    };
+    const std::string text = R"({"version": 1, "objects": [], "camera": {"fovDegrees": 30}})";
+    const std::string other = R"({"version": 1,   "objects": [], "camera": {"fovDegrees": 60}, "sun": {"intensity": 2}})";
+    CHECK(hash(text) == hash(other));
+    CHECK(hash(text) != hash(R"({"version": 1, "objects": [], "seed": 2})"));
+}
+
+TEST_CASE("simulator: an edited mesh file is simulated afresh", "[sim][resume]")
+{
+    // The scene text stays the same; only the airplane's OBJ changes, scaled by 1.6.
+    const std::string dir = test::scratchDir("edited-mesh");
+    std::filesystem::create_directories(dir + "/scene/meshes");
+    std::filesystem::copy_file(std::string(VFIELD_SCENES_DIR) + "/canyon_flythrough.json", dir + "/scene/canyon.json",
+                               std::filesystem::copy_options::overwrite_existing);
+    const std::string mesh = dir + "/scene/meshes/airplane.obj";
+    std::filesystem::copy_file(std::string(VFIELD_SCENES_DIR) + "/meshes/airplane.obj", mesh,
+                               std::filesystem::copy_options::overwrite_existing);
+    const auto canyon = [&] {
+        nlohmann::json json = nlohmann::json::parse(test::readTextFile(dir + "/scene/canyon.json"));
+        json["frames"]["end"] = json["frames"]["start"].get<int>() + 2;
+        return parseScene(json.dump(), dir + "/scene/canyon.json");
+    };
+    const std::string sim = dir + "/sim";
+    simulateScene(canyon(), sim);
+    const std::string statsBefore = test::readTextFile(sim + "/stats.json");
+
+    std::istringstream original(test::readTextFile(mesh));
+    std::ostringstream scaled;
+    for (std::string line; std::getline(original, line);) {
+        if (line.rfind("v ", 0) == 0) {
+            std::istringstream v(line.substr(2));
+            double x, y, z;
+            v >> x >> y >> z;
+            scaled << "v " << 1.6 * x << ' ' << 1.6 * y << ' ' << 1.6 * z << '\n';
+        } else {
+            scaled << line << '\n';
+        }
+    }
+    std::ofstream(mesh) << scaled.str();
+
+    const SimulateSummary again = simulateScene(canyon(), sim);
+    CHECK(again.restartedStale);
+    CHECK(again.resumedAfterFrame == -1);
+    CHECK(test::readTextFile(sim + "/stats.json") != statsBefore);
+}
