@@ -4,6 +4,7 @@
 #include <atomic>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -53,6 +54,13 @@ void writeTextAtomically(const std::string& path, const std::string& text)
         out.close();
         if (!out) throw FileError(path, "cannot write");
     });
+}
+
+std::string readFileBytes(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw FileError(path, fs::exists(path) ? "cannot open for reading" : "no such file");
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 } // namespace vfield

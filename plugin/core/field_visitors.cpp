@@ -21,15 +21,6 @@ Vec3d eulerDegrees(const Quatd& rotation)
     return Vec3d(std::atan2(r21, r22), std::asin(std::clamp(-r20, -1.0, 1.0)), std::atan2(r10, r00)) * toDegrees;
 }
 
-std::string fileContents(const std::string& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw FileError(path, "cannot open for reading");
-    std::stringstream bytes;
-    bytes << in.rdbuf();
-    return bytes.str();
-}
-
 std::string numberDocText(double value)
 {
     std::ostringstream text;

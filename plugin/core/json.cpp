@@ -1,5 +1,6 @@
 #include <vfield/core/json.h>
 
+#include <vfield/core/atomic_file.h>
 #include <vfield/core/error.h>
 
 #include <nlohmann/json.hpp>
@@ -282,13 +283,6 @@ JsonValue parseJson(const std::string& text, const std::string& file)
     return JsonValue(std::move(document), root, file, "/");
 }
 
-JsonValue readJsonFile(const std::string& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw FileError(path, "cannot open for reading");
-    std::stringstream text;
-    text << in.rdbuf();
-    return parseJson(text.str(), path);
-}
+JsonValue readJsonFile(const std::string& path) { return parseJson(readFileBytes(path), path); }
 
 } // namespace vfield

@@ -1,5 +1,6 @@
 #include <vfield/scene/scene.h>
 
+#include <vfield/core/atomic_file.h>
 #include <vfield/core/error.h>
 #include <vfield/core/field_visitors.h>
 
@@ -112,13 +113,10 @@ void setAt(nlohmann::json& node, const std::vector<std::string>& tokens, std::si
 
 Scene loadScene(const std::string& path, const std::vector<SceneOverride>& overrides)
 {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw FileError(path, std::filesystem::exists(path) ? "cannot open for reading" : "no such file");
-    std::stringstream text;
-    text << in.rdbuf();
-    if (overrides.empty()) return parseScene(text.str(), path);
+    const std::string text = readFileBytes(path);
+    if (overrides.empty()) return parseScene(text, path);
 
-    nlohmann::json json = parseJson(text.str(), path).raw(); // syntax errors name the file's line and column
+    nlohmann::json json = parseJson(text, path).raw(); // syntax errors name the file's line and column
     for (const SceneOverride& o : overrides) {
         const std::string what = "override " + o.pointer + "=" + o.value + ": ";
         if (o.pointer.empty() || o.pointer[0] != '/') throw ValueError(what + "a JSON pointer starts with '/'");

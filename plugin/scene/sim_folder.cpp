@@ -16,19 +16,6 @@ namespace fs = std::filesystem;
 
 namespace vfield {
 
-namespace {
-
-std::string readFile(const std::string& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw FileError(path, "cannot open for reading");
-    std::stringstream text;
-    text << in.rdbuf();
-    return text.str();
-}
-
-} // namespace
-
 SimFolder::SimFolder(std::string path) : mPath(std::move(path)) {}
 
 std::string SimFolder::file(const std::string& name) const { return (fs::path(mPath) / name).string(); }
@@ -62,19 +49,19 @@ Tracks SimFolder::readTracks() const
 {
     const std::string path = tracksFile();
     if (!fs::exists(path)) throw FileError(path, "no tracks of the dynamic objects (simulate the scene first)");
-    return Tracks::fromJsonText(readFile(path), path);
+    return Tracks::fromJsonText(readFileBytes(path), path);
 }
 
 StatsFile SimFolder::readStats() const
 {
     const std::string path = statsFile();
     if (!fs::exists(path)) throw FileError(path, "no statistics (simulate the scene first)");
-    return statsFromJsonText(readFile(path), path);
+    return statsFromJsonText(readFileBytes(path), path);
 }
 
 bool SimFolder::hasRunState() const { return fs::exists(stateFile()); }
 
-RunState SimFolder::readRunState() const { return runStateFromBytes(readFile(stateFile()), stateFile()); }
+RunState SimFolder::readRunState() const { return runStateFromBytes(readFileBytes(stateFile()), stateFile()); }
 
 void SimFolder::writeFrame(int frame, const DensityGrids& volume, const openvdb::GridBase::Ptr& particles) const
 {

@@ -16,15 +16,6 @@ namespace vfield::cli {
 
 namespace {
 
-std::string readDocument(const std::string& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw FileError(path, "cannot open for reading");
-    std::stringstream text;
-    text << in.rdbuf();
-    return text.str();
-}
-
 std::string joined(const std::vector<std::string>& titles)
 {
     std::string text;
@@ -62,10 +53,10 @@ Runner registerHelp(CLI::App& app, const GlobalOptions& global)
         std::vector<std::string> problems, absentEverywhere;
         bool first = true;
         for (const std::string& path : o->documents) {
-            const KeyTableUpdate update = updateKeyTables(readDocument(path), tables);
+            const KeyTableUpdate update = updateKeyTables(readFileBytes(path), tables);
             if (!update.unknown.empty()) problems.push_back(path + ": no table is titled " + joined(update.unknown));
             if (o->update) {
-                if (update.text != readDocument(path)) writeTextAtomically(path, update.text);
+                if (update.text != readFileBytes(path)) writeTextAtomically(path, update.text);
                 if (!update.stale.empty()) log(global, path + ": updated " + joined(update.stale));
             } else if (!update.stale.empty()) {
                 problems.push_back(path + ": stale tables " + joined(update.stale) + " (vfield help keys --update " + path + ")");

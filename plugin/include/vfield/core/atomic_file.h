@@ -1,8 +1,9 @@
 #pragma once
 /// @file atomic_file.h
-/// Every file vfield writes appears whole or not at all: it is written under a
-/// temporary name beside its destination and renamed into place, so an
-/// interrupted run never leaves a half-written output.
+/// Files as vfield writes and reads them. Every file vfield writes appears
+/// whole or not at all: it is written under a temporary name beside its
+/// destination and renamed into place, so an interrupted run never leaves a
+/// half-written output.
 
 #include <functional>
 #include <string>
@@ -18,5 +19,9 @@ void writeFileAtomically(const std::string& path, const std::function<void(const
 
 /// Writes text to path atomically.
 void writeTextAtomically(const std::string& path, const std::string& text);
+
+/// The whole file's bytes. Throws FileError naming it: "no such file" or
+/// "cannot open for reading".
+std::string readFileBytes(const std::string& path);
 
 } // namespace vfield

@@ -10,6 +10,7 @@
 ///   describeFields<T>()           the documentation tables (`vfield help keys`)
 /// Include this in .cpp files only: it brings nlohmann's JSON with it.
 
+#include <vfield/core/atomic_file.h>
 #include <vfield/core/error.h>
 #include <vfield/core/fields.h>
 #include <vfield/core/hash.h>
@@ -147,9 +148,6 @@ void hashLeaf(ContentHash& hash, const T& value)
         hash.addValue(double(value));
     }
 }
-
-/// The file's contents, for hashes of what shapes a result.
-std::string fileContents(const std::string& path);
 
 } // namespace detail
 
@@ -450,7 +448,7 @@ private:
         } else {
             detail::hashLeaf(mHash, value);
             if constexpr (std::is_same_v<X, std::string>)
-                if (f.pathValued() && mWithFileContents) detail::hashLeaf(mHash, detail::fileContents(value));
+                if (f.pathValued() && mWithFileContents) detail::hashLeaf(mHash, readFileBytes(value));
         }
     }
     template<typename X>
