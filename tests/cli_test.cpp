@@ -12,10 +12,12 @@
 #include <cmath>
 
 #include <chrono>
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sys/wait.h>
+#include <thread>
 
 #include <nlohmann/json.hpp>
 
@@ -138,8 +140,8 @@ TEST_CASE("cli: every subcommand has help", "[cli]")
     std::istringstream lines(top.out.substr(top.out.find("Subcommands:")));
     for (std::string line; std::getline(lines, line);)
         if (line.rfind("  ", 0) == 0) commands.push_back(line.substr(2, line.find(' ', 2) - 2));
-    CHECK(commands.size() == 14);
-    for (const char* name : {"compare", "metrics", "farm", "export-scene", "help"})
+    CHECK(commands.size() == 15);
+    for (const char* name : {"compare", "metrics", "farm", "export-scene", "help", "verify"})
         CHECK(std::find(commands.begin(), commands.end(), name) != commands.end());
     for (const std::string& command : commands) {
         const Run help = vfieldCli(command + " --help", dir);
@@ -324,6 +326,115 @@ TEST_CASE("cli: render refuses bad simulations with one line and writes no image
     CHECK(render(dir + "/sim").err ==
           "vfield render: " + dir + "/sim/density.0002.vdb: grid 'density' holds a non-finite value at voxel (1, 2, 3)\n");
     CHECK_FALSE(std::filesystem::exists(dir + "/img/frame.0002.png"));
+
+    // A frame of another simulation (another seed) is refused, named.
+    REQUIRE(vfieldCli("simulate " + dir + "/s.json -o " + dir + "/other --set /seed=7 -q", dir).exitCode == 0);
+    REQUIRE(vfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim -q", dir).exitCode == 0);
+    std::filesystem::copy_file(dir + "/other/density.0002.vdb", dir + "/sim/density.0002.vdb",
+                               std::filesystem::copy_options::overwrite_existing);
+    const Run foreign = render(dir + "/sim");
+    CHECK(foreign.exitCode == 1);
+    CHECK(foreign.err.rfind("vfield render: " + dir + "/sim/density.0002.vdb: was made by another simulation (inputs hash ", 0) ==
+          0);
+    CHECK(lineCount(foreign.err) == 1);
+}
+
+TEST_CASE("cli: verify names a folder's frames that are missing, made by another simulation or damaged", "[cli][resume]")
+{
+    const std::string dir = vfield::test::scratchDir("cli-verify");
+    std::ofstream(dir + "/s.json") << R"({"version": 1, "frames": {"start": 1, "end": 4, "fps": 24},
+      "objects": [{"name": "ground", "mesh": {"box": {"min": [-20, -2, -20], "max": [20, 0, 20]}}}],
+      "clouds": [{"count": 300, "center": [0, 6, 0], "radius": 2}]})";
+    REQUIRE(vfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim -q", dir).exitCode == 0);
+    REQUIRE(vfieldCli("simulate " + dir + "/s.json -o " + dir + "/other --set /seed=7 -q", dir).exitCode == 0);
+    const Run clean = vfieldCli("verify " + dir + "/sim", dir);
+    CHECK(clean.exitCode == 0);
+    CHECK(clean.out.empty());
+    CHECK(clean.err.find("4 frames recorded, 4 good, 0 missing, 0 foreign, 0 corrupt") != std::string::npos);
+
+    std::filesystem::remove(dir + "/sim/density.0002.vdb");
+    std::filesystem::copy_file(dir + "/other/particles.0003.vdb", dir + "/sim/particles.0003.vdb",
+                               std::filesystem::copy_options::overwrite_existing);
+    std::ofstream(dir + "/sim/density.0004.vdb", std::ios::app) << "trailing bytes";
+    const Run damaged = vfieldCli("verify " + dir + "/sim", dir);
+    CHECK(damaged.exitCode == 1);
+    CHECK(damaged.out.find("frame 2: missing: " + dir + "/sim/density.0002.vdb is missing\n") != std::string::npos);
+    CHECK(damaged.out.find("frame 3: foreign: " + dir + "/sim/particles.0003.vdb was made by another simulation") !=
+          std::string::npos);
+    CHECK(damaged.out.find("frame 4: corrupt: " + dir + "/sim/density.0004.vdb has ") != std::string::npos);
+    CHECK(damaged.err.find("4 frames recorded, 1 good, 1 missing, 1 foreign, 1 corrupt") != std::string::npos);
+}
+
+namespace {
+
+/// Starts `vfield arguments` in the background; returns its process id once
+/// it holds the lock of folder (its lock file names it).
+pid_t startHolding(const std::string& arguments, const std::string& folder, const std::string& dir)
+{
+    const std::string pidFile = dir + "/background.pid";
+    std::filesystem::remove(pidFile);
+    std::system((std::string(VFIELD_CLI_PATH) + " " + arguments + " -q >/dev/null 2>&1 & echo $! > " + pidFile).c_str());
+    for (int wait = 0; wait < 600; ++wait) {
+        const std::string holder = vfield::test::readTextFile(folder + "/.vfield-lock");
+        const std::string pid = vfield::test::readTextFile(pidFile);
+        if (!pid.empty() && holder.find("pid " + std::to_string(std::stoi(pid)) + " ") != std::string::npos)
+            return std::stoi(pid);
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    FAIL("the background vfield never took the lock of " << folder);
+    return -1;
+}
+
+void killAndWait(pid_t pid)
+{
+    ::kill(pid, SIGKILL);
+    while (::kill(pid, 0) == 0) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+}
+
+} // namespace
+
+TEST_CASE("cli: one writer per folder: a second simulate or render is refused at once naming the holder; kill -9 frees it",
+          "[cli][lock]")
+{
+    const std::string dir = vfield::test::scratchDir("cli-lock");
+    std::ofstream(dir + "/s.json") << R"({"version": 1, "frames": {"start": 1, "end": 400, "fps": 24},
+      "objects": [{"name": "ground", "mesh": {"box": {"min": [-20, -2, -20], "max": [20, 0, 20]}}}],
+      "clouds": [{"count": 20000, "center": [0, 6, 0], "radius": 4}],
+      "render": {"resolution": [64, 36], "samplesPerPixel": 1}})";
+    const pid_t first = startHolding("simulate " + dir + "/s.json -o " + dir + "/sim", dir + "/sim", dir);
+
+    // The issue's second run: another seed, a few frames, into the same folder.
+    const auto start = std::chrono::steady_clock::now();
+    const Run second = vfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim --set /clouds/0/seed=99 --frames 1-5", dir);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    CHECK(second.exitCode == 1);
+    CHECK(lineCount(second.err) == 1);
+    CHECK(second.err.rfind("vfield simulate: " + dir + "/sim: another vfield is writing here (vfield simulate, pid " +
+                               std::to_string(first) + " on ",
+                           0) == 0);
+    CHECK(seconds < 10.0); // refused at once, not after a simulation
+
+    // Killed, its lock is gone with it: the next run resumes where it stopped.
+    killAndWait(first);
+    const Run third = vfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim --frames 1-12", dir);
+    INFO(third.err);
+    CHECK(third.exitCode == 0);
+    CHECK(third.err.find("resumed after frame") != std::string::npos);
+
+    // A render holds its output folder the same way, and --wait waits for it.
+    const pid_t rendering = startHolding("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir +
+                                             "/img --frames 1-12 --resolution 480x270 --spp 16",
+                                         dir + "/img", dir);
+    const Run refused = vfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/img --frames 1-2", dir);
+    CHECK(refused.exitCode == 1);
+    CHECK(refused.err.find(dir + "/img: another vfield is writing here (vfield render, pid " + std::to_string(rendering)) !=
+          std::string::npos);
+    const Run waited = vfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir +
+                                     "/img --frames 1-2 --resolution 480x270 --spp 16 --wait",
+                                 dir);
+    CHECK(waited.exitCode == 0);
+    CHECK(waited.err.find(dir + "/img: waiting for vfield render, pid " + std::to_string(rendering)) != std::string::npos);
+    CHECK(waited.err.find("skipped 2 already complete") != std::string::npos); // the holder rendered them meanwhile
 }
 
 TEST_CASE("cli: render --backend povray and both write their images, and --keep-scene keeps POV-Ray's files", "[cli][povray]")
@@ -525,4 +636,37 @@ TEST_CASE("cli: tracks.json's matrix places the object-space export where --fram
         worst = std::max(worst, (placed - vfield::Vec3d(world.points[i])).length());
     }
     CHECK(worst < 1e-3); // the meshes hold float points, some hundreds of units from the origin
+}
+
+TEST_CASE("cli: a heightmap with holes or absurd heights is refused at once, naming the pixel", "[cli][scene]")
+{
+    const std::string dir = vfield::test::scratchDir("cli-heightmap");
+    const auto heightmap = [&](const std::string& name, float bad) {
+        OIIO::ImageBuf image(OIIO::ImageSpec(8, 8, 1, OIIO::TypeDesc::FLOAT));
+        for (int y = 0; y < 8; ++y)
+            for (int x = 0; x < 8; ++x) {
+                const float h = x == 5 && y == 6 ? bad : 0.1f * float(x + y);
+                image.setpixel(x, y, &h);
+            }
+        REQUIRE(image.write(dir + "/" + name));
+    };
+    heightmap("holes.exr", std::nanf(""));
+    heightmap("absurd.exr", 1e30f);
+    heightmap("valid.exr", 0.5f);
+    const auto simulate = [&](const std::string& file, const std::string& extra) {
+        std::ofstream(dir + "/s.json") << R"({"version": 1, "frames": {"start": 1, "end": 2},
+          "objects": [{"name": "dem", "mesh": {"heightmap": {"file": ")" +
+                                              file + R"(", "size": [40, 40], "heightScale": 60)" + extra + R"(}}}],
+          "clouds": [{"count": 100, "center": [0, 90, 0], "radius": 3}]})";
+        return vfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim-" + file + " -q", dir);
+    };
+    const Run holes = simulate("holes.exr", "");
+    CHECK(holes.exitCode == 1);
+    CHECK(holes.err.rfind("vfield simulate: " + dir + "/holes.exr: pixel (5, 6) holds NaN", 0) == 0);
+    CHECK(lineCount(holes.err) == 1);
+    const Run absurd = simulate("absurd.exr", "");
+    CHECK(absurd.exitCode == 1);
+    CHECK(absurd.err.find("absurd.exr: pixel (5, 6) is 1e+30, a height of 6e+31 world units") != std::string::npos);
+    CHECK(simulate("holes.exr", R"(, "fillNoData": true)").exitCode == 0);
+    CHECK(simulate("valid.exr", "").exitCode == 0);
 }

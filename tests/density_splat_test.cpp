@@ -62,6 +62,7 @@ TEST_CASE("density splat: one particle's kernel is centred on it, as spread as t
         options.voxelSize = 0.5;
         options.kernelRadius = radius;
         options.densityPerParticle = 2.0;
+        options.cutoff = 0.0; // the whole kernel, its faint fringe too
         const DensityGrids grids = splatParticles(one, options);
         double mass = 0.0;
         Vec3d first(0.0), second(0.0), farthest(0.0);
@@ -233,4 +234,51 @@ TEST_CASE("density detail with dual rest: a rest reset at zero weight does not s
                  contrastBlended = detailContrast(blended, *smooth.density);
     INFO("detail contrast: " << contrastSingle << " from rest, " << contrastBlended << " blended");
     CHECK(contrastBlended == Approx(contrastSingle).epsilon(0.12));
+}
+
+TEST_CASE("density splat: the cutoff leaves out the kernels' fringe below its share of a lone particle's peak, "
+          "keeping the grid's bounds and a velocity only where there is density",
+          "[volume]")
+{
+    ParticleSet one;
+    one.position = {Vec3f(0.5f, 1.0f, -0.5f)}; // on a voxel's centre: its peak is a lone particle's
+    one.velocity = {Vec3f(0.0f)};
+    one.id = {1};
+    one.radius = {0.5f};
+    one.cloud = {0};
+    VolumeOptions options;
+    options.voxelSize = 0.5;
+    options.kernelRadius = 3.0;
+    options.cutoff = 0.0;
+    const openvdb::FloatGrid::Ptr whole = splatParticles(one, options).density;
+    options.cutoff = 0.01;
+    const DensityGrids cutGrids = splatParticles(one, options);
+    const openvdb::FloatGrid::Ptr cut = cutGrids.density;
+    float peak = 0.0f;
+    for (auto it = whole->cbeginValueOn(); it; ++it) peak = std::max(peak, *it);
+    // Every voxel at or above 1% of the peak is kept as it was; every one
+    // below is gone, but for those on the faces of the active box.
+    const openvdb::CoordBBox bounds = whole->evalActiveVoxelBoundingBox();
+    const auto onFace = [&bounds](const openvdb::Coord& c) {
+        return c.x() == bounds.min().x() || c.x() == bounds.max().x() || c.y() == bounds.min().y() || c.y() == bounds.max().y() ||
+               c.z() == bounds.min().z() || c.z() == bounds.max().z();
+    };
+    auto kept = cut->getConstAccessor();
+    uint64_t below = 0;
+    for (auto it = whole->cbeginValueOn(); it; ++it) {
+        if (*it >= 0.01f * peak || onFace(it.getCoord())) {
+            CHECK(kept.isValueOn(it.getCoord()));
+            CHECK(kept.getValue(it.getCoord()) == *it);
+        } else {
+            ++below;
+            CHECK_FALSE(kept.isValueOn(it.getCoord()));
+            CHECK(kept.getValue(it.getCoord()) == 0.0f);
+        }
+    }
+    CHECK(below > 0);
+    CHECK(cut->activeVoxelCount() + below == whole->activeVoxelCount());
+    CHECK(cut->evalActiveVoxelBoundingBox() == bounds);
+    // The velocity is where the density is (it is on the same voxels here).
+    for (auto it = cutGrids.velocity->cbeginValueOn(); it; ++it) CHECK(kept.isValueOn(it.getCoord()));
+    CHECK(cutGrids.velocity->activeVoxelCount() == cut->activeVoxelCount());
 }

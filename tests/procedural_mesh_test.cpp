@@ -198,3 +198,49 @@ TEST_CASE("heightmap terrain: a 16-bit PNG's pixels become heights, corner to co
     options.path = path + ".missing.png";
     CHECK_THROWS_WITH(makeHeightmapTerrain(options), Catch::Contains(options.path));
 }
+
+namespace {
+
+/// A 4 x 3 EXR heightmap of ones, with the given pixels changed.
+std::string heightmapWith(const std::string& name, const std::vector<std::pair<std::pair<int, int>, float>>& pixels)
+{
+    const std::string path = test::scratchDir("heightmap-holes") + "/" + name + ".exr";
+    OIIO::ImageBuf image(OIIO::ImageSpec(4, 3, 1, OIIO::TypeDesc::FLOAT));
+    for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 4; ++x) {
+            const float one = 1.0f + 0.1f * float(x);
+            image.setpixel(x, y, &one);
+        }
+    for (const auto& [xy, value] : pixels) image.setpixel(xy.first, xy.second, &value);
+    REQUIRE(image.write(path, OIIO::TypeDesc::FLOAT));
+    return path;
+}
+
+} // namespace
+
+TEST_CASE("heightmap terrain: pixels without a number are refused naming the first, or filled from their neighbours", "[mesh]")
+{
+    HeightmapOptions options;
+    options.sizeX = options.sizeZ = 30;
+    options.heightScale = 60;
+    options.path = heightmapWith("holes", {{{2, 1}, std::nanf("")}, {{3, 2}, std::numeric_limits<float>::infinity()}});
+    CHECK_THROWS_WITH(makeHeightmapTerrain(options), options.path +
+                                                         ": pixel (2, 1) holds NaN, no height (elevation models "
+                                                         "mark missing data so): set the heightmap's \"fillNoData\": "
+                                                         "true to fill such pixels from their nearest valid neighbour");
+    options.fillNoData = true;
+    const TriangleMesh filled = makeHeightmapTerrain(options);
+    for (const Vec3f& p : filled.points) REQUIRE(std::isfinite(p[1]));
+    // Grid point (i, k) at i * 3 + k: each hole took a neighbour's height,
+    // the first of its neighbours in the image's order.
+    CHECK(filled.points[2 * 3 + 1][1] == Approx(60 * 1.2).epsilon(1e-5)); // from (2, 0)
+    CHECK(filled.points[3 * 3 + 2][1] == Approx(60 * 1.3).epsilon(1e-5)); // from (3, 1)
+
+    options.fillNoData = false;
+    options.path = heightmapWith("absurd", {{{1, 0}, 1e30f}});
+    CHECK_THROWS_WITH(makeHeightmapTerrain(options),
+                      Catch::Contains(options.path + ": pixel (1, 0) is 1e+30, a height of 6e+31") &&
+                          Catch::Contains("(at most +-1e+06)"));
+    options.path = heightmapWith("valid", {});
+    CHECK(analyzeTopology(makeHeightmapTerrain(options)).isClosed());
+}

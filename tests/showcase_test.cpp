@@ -34,7 +34,7 @@ TEST_CASE("showcase: the cloud squeezes through the pass and pours down beyond i
 {
     const Scene scene = test::showcaseAtTestResolution("cloud_over_terrain.json", 4000, 240);
     const std::string dir = test::scratchDir("cloud-showcase");
-    const SimulateSummary summary = simulateScene(scene, dir, {240, 240, {}, {}});
+    const SimulateSummary summary = simulateScene(scene, dir, SimulateOptions::writing(240, 240));
     CHECK(summary.worstParticles.penetrations == 0);
     CHECK(summary.worstParticles.minimum > 1.0);
     // Across the wind (z) the cloud is squeezed where the pass cuts the ridge
@@ -144,7 +144,8 @@ TEST_CASE("showcase: the octree and distance fields keep the cloud off the terra
         Scene scene = test::showcaseAtTestResolution("cloud_over_terrain.json", 2000, 240);
         scene.simulation.objects.at(0).repulsion->method = method;
         const std::string dir = test::scratchDir(std::string("methods-") + enumName(method));
-        const SimulateSummary summary = simulateScene(scene, dir, {200, 240, {}, {}}); // paths from the frames written
+        const SimulateSummary summary =
+            simulateScene(scene, dir, SimulateOptions::writing(200, 240)); // paths from the frames written
         const RunMetrics metrics = measureRun(dir);
         INFO(enumName(method) << ": clearance " << summary.worstParticles.minimum << ", 1st percentile "
                               << summary.worstParticles.percentile1 << ", penetrations " << summary.worstParticles.penetrations
@@ -173,7 +174,7 @@ TEST_CASE("showcase: the airplane flies the canyon without touching it", "[sim][
 {
     const Scene scene = test::showcaseAtTestResolution("canyon_flythrough.json", 0, 330);
     const std::string dir = test::scratchDir("canyon-showcase");
-    const SimulateSummary summary = simulateScene(scene, dir, {330, 330, {}, {}});
+    const SimulateSummary summary = simulateScene(scene, dir, SimulateOptions::writing(330, 330));
     REQUIRE(summary.closestPairs.size() == 1); // the airplane and the mountains, mesh to mesh
     CHECK(summary.overlappingPairFrames == 0);
     CHECK(summary.closestPairs[0].minimum > 0.3);

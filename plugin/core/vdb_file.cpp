@@ -12,13 +12,13 @@
 
 namespace vfield {
 
-void writeVdb(const std::string& path, const openvdb::GridPtrVec& grids)
+void writeVdb(const std::string& path, const openvdb::GridPtrVec& grids, const openvdb::MetaMap& fileMetadata)
 {
     openvdb::initialize();
     writeFileAtomically(path, [&](const std::string& temporary) {
         try {
             openvdb::io::File file(temporary);
-            file.write(grids);
+            file.write(grids, fileMetadata);
             file.close();
         } catch (const openvdb::Exception& e) {
             throw FileError(path, std::string("cannot write: ") + e.what());
@@ -26,7 +26,7 @@ void writeVdb(const std::string& path, const openvdb::GridPtrVec& grids)
     });
 }
 
-openvdb::GridPtrVec readVdb(const std::string& path)
+openvdb::GridPtrVec readVdb(const std::string& path, openvdb::MetaMap* fileMetadata)
 {
     openvdb::initialize();
     openvdb::GridPtrVecPtr grids;
@@ -34,6 +34,7 @@ openvdb::GridPtrVec readVdb(const std::string& path)
         openvdb::io::File file(path);
         file.open(/*delayLoad=*/false);
         grids = file.getGrids();
+        if (fileMetadata) *fileMetadata = *file.getMetadata();
         file.close();
     } catch (const openvdb::Exception& e) {
         throw FileError(path, std::string("cannot read OpenVDB file: ") + e.what());
@@ -44,6 +45,20 @@ openvdb::GridPtrVec readVdb(const std::string& path)
     for (const auto& grid : *grids)
         if (!grid) throw FileError(path, "the OpenVDB file holds an unreadable grid");
     return *grids;
+}
+
+openvdb::MetaMap readVdbMetadata(const std::string& path)
+{
+    openvdb::initialize();
+    try {
+        openvdb::io::File file(path);
+        file.open(/*delayLoad=*/true); // the header and metadata only: no grid is read
+        openvdb::MetaMap metadata = *file.getMetadata();
+        file.close();
+        return metadata;
+    } catch (const std::exception& e) {
+        throw FileError(path, std::string("cannot read OpenVDB file: ") + e.what());
+    }
 }
 
 GridSummary summarizeGrid(const openvdb::GridBase& grid)

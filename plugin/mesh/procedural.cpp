@@ -197,11 +197,65 @@ void HeightmapOptions::validate() const
     checkFields(*this);
 }
 
+namespace {
+
+/// Gives every pixel that holds no number the value of its nearest valid
+/// pixel (in steps across the image, breadth first: a hole is filled from
+/// its rim inwards). Throws FileError when no pixel is valid.
+void fillNoData(ImagePlane& image, const std::string& path)
+{
+    const int w = image.width, h = image.height;
+    std::vector<std::size_t> front;
+    std::vector<uint8_t> known(image.values.size(), 0);
+    for (std::size_t i = 0; i < image.values.size(); ++i)
+        if (std::isfinite(image.values[i])) {
+            known[i] = 1;
+            front.push_back(i);
+        }
+    if (front.empty()) throw FileError(path, "no pixel holds a number: nothing to fill the holes from");
+    while (!front.empty()) {
+        std::vector<std::size_t> next;
+        for (const std::size_t i : front) {
+            const int x = int(i % std::size_t(w)), y = int(i / std::size_t(w));
+            for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{-1, 0}, std::pair{0, 1}, std::pair{0, -1}}) {
+                if (x + dx < 0 || x + dx >= w || y + dy < 0 || y + dy >= h) continue;
+                const std::size_t n = std::size_t(y + dy) * std::size_t(w) + std::size_t(x + dx);
+                if (known[n]) continue;
+                known[n] = 1;
+                image.values[n] = image.values[i];
+                next.push_back(n);
+            }
+        }
+        front = std::move(next);
+    }
+}
+
+} // namespace
+
 TriangleMesh makeHeightmapTerrain(const HeightmapOptions& o)
 {
     o.validate();
-    const ImagePlane image = readImagePlane(o.path);
+    ImagePlane image = readImagePlane(o.path);
     if (image.width < 2 || image.height < 2) throw FileError(o.path, "a heightmap needs at least 2 x 2 pixels");
+    const auto where = [&](std::size_t i) {
+        return "pixel (" + std::to_string(i % std::size_t(image.width)) + ", " + std::to_string(i / std::size_t(image.width)) +
+               ")";
+    };
+    if (o.fillNoData) {
+        fillNoData(image, o.path);
+    } else {
+        for (std::size_t i = 0; i < image.values.size(); ++i)
+            if (!std::isfinite(image.values[i]))
+                throw FileError(o.path, where(i) + " holds " + (std::isnan(image.values[i]) ? "NaN" : "an infinite value") +
+                                            ", no height (elevation models mark missing data so): set the heightmap's "
+                                            "\"fillNoData\": true to fill such pixels from their nearest valid neighbour");
+    }
+    for (std::size_t i = 0; i < image.values.size(); ++i)
+        if (!(std::abs(double(image.values[i]) * o.heightScale) <= HeightmapOptions::kMaxHeight))
+            throw FileError(o.path, where(i) + " is " + numberText(double(image.values[i])) + ", a height of " +
+                                        numberText(double(image.values[i]) * o.heightScale) + " world units with heightScale " +
+                                        numberText(o.heightScale) + " (at most +-" + numberText(HeightmapOptions::kMaxHeight) +
+                                        ")");
     const int cellsX = o.cellsX > 0 ? o.cellsX : image.width - 1;
     const int cellsZ = o.cellsZ > 0 ? o.cellsZ : image.height - 1;
     require(double(cellsX) * cellsZ <= TerrainOptions::kMaxCells, "cells", "expected at most 64 million cells in all");

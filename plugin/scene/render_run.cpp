@@ -58,9 +58,12 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
         throw ValueError("frames " + std::to_string(first) + "-" + std::to_string(last) + " are not within the scene's " +
                          std::to_string(setup.firstFrame) + "-" + std::to_string(setup.lastFrame));
     if (!fs::is_directory(simulationDir)) throw FileError(simulationDir, "no such simulation folder");
+    const FolderLock lock(outputDir, "vfield render", options.waitForFolder);
     const SimFolder simulation(simulationDir);
     const RenderSettings& settings = scene.render;
     settings.validate();
+    // Every frame rendered must have been made by the folder's simulation.
+    const uint64_t inputsHash = simulation.readStats().inputsHash;
 
     // Surfaces once: static meshes into one BVH, dynamic ones as instances.
     // Embree places a following camera and shadows the cloud for every back-end.
@@ -143,7 +146,7 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
         const auto start = std::chrono::steady_clock::now();
         if (!prepared) backend->prepare();
         prepared = true;
-        const openvdb::FloatGrid::Ptr density = simulation.readDensity(f);
+        const openvdb::FloatGrid::Ptr density = simulation.readDensity(f, inputsHash);
 
         FrameView view;
         view.frame = f;

@@ -3,10 +3,12 @@
 #include <vfield/core/atomic_file.h>
 #include <vfield/core/error.h>
 #include <vfield/core/frame_file.h>
+#include <vfield/core/hash.h>
 #include <vfield/core/vdb_file.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -26,13 +28,52 @@ std::string SimFolder::tracksFile() const { return file("tracks.json"); }
 std::string SimFolder::statsFile() const { return file("stats.json"); }
 std::string SimFolder::stateFile() const { return file("state.bin"); }
 
-openvdb::FloatGrid::Ptr SimFolder::readDensity(int frame) const
+namespace {
+
+constexpr const char* kInputsHashKey = "vfield:inputsHash";
+constexpr const char* kFrameKey = "vfield:frame";
+
+std::string hexText(uint64_t value)
+{
+    char text[17];
+    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(value));
+    return text;
+}
+
+FileFingerprint fingerprint(const std::string& path)
+{
+    const std::string bytes = readFileBytes(path);
+    ContentHash hash;
+    hash.add(bytes.data(), bytes.size());
+    return {uint64_t(bytes.size()), hash.value()};
+}
+
+/// Why a frame file's metadata does not say it was made by this simulation
+/// for this frame; empty when it does.
+std::string provenanceProblem(const std::string& path, const openvdb::MetaMap& metadata, uint64_t inputsHash, int frame)
+{
+    const auto hash = metadata.getMetadata<openvdb::StringMetadata>(kInputsHashKey);
+    const auto stamped = metadata.getMetadata<openvdb::Int32Metadata>(kFrameKey);
+    if (!hash || !stamped)
+        return path + " says nothing of the simulation that made it (written by another program or an older vfield)";
+    if (hash->value() != hexText(inputsHash))
+        return path + " was made by another simulation (inputs hash " + hash->value() + ", the folder's " + hexText(inputsHash) +
+               ")";
+    if (stamped->value() != frame) return path + " holds frame " + std::to_string(stamped->value());
+    return {};
+}
+
+} // namespace
+
+openvdb::FloatGrid::Ptr SimFolder::readDensity(int frame, std::optional<uint64_t> inputsHash) const
 {
     const std::string path = densityFile(frame);
     if (!fs::exists(path)) throw FileError(path, "missing (simulate these frames first)");
-    for (const openvdb::GridBase::Ptr& grid : readVdb(path)) {
+    openvdb::MetaMap metadata;
+    openvdb::FloatGrid::Ptr density;
+    for (const openvdb::GridBase::Ptr& grid : readVdb(path, &metadata)) {
         if (grid->getName() != "density") continue;
-        openvdb::FloatGrid::Ptr density = openvdb::gridPtrCast<openvdb::FloatGrid>(grid);
+        density = openvdb::gridPtrCast<openvdb::FloatGrid>(grid);
         if (!density) throw FileError(path, "grid 'density' is a " + grid->valueType() + " grid, not float");
         for (auto it = density->cbeginValueOn(); it; ++it)
             if (!std::isfinite(*it)) {
@@ -40,9 +81,14 @@ openvdb::FloatGrid::Ptr SimFolder::readDensity(int frame) const
                 throw FileError(path, "grid 'density' holds a non-finite value at voxel (" + std::to_string(c.x()) + ", " +
                                           std::to_string(c.y()) + ", " + std::to_string(c.z()) + ")");
             }
-        return density;
+        break;
     }
-    throw FileError(path, "no grid named 'density'");
+    if (!density) throw FileError(path, "no grid named 'density'");
+    if (inputsHash) {
+        const std::string problem = provenanceProblem(path, metadata, *inputsHash, frame);
+        if (!problem.empty()) throw FileError(path, problem.substr(path.size() + 1) + ": simulate the frame again");
+    }
+    return density;
 }
 
 Tracks SimFolder::readTracks() const
@@ -63,18 +109,48 @@ bool SimFolder::hasRunState() const { return fs::exists(stateFile()); }
 
 RunState SimFolder::readRunState() const { return runStateFromBytes(readFileBytes(stateFile()), stateFile()); }
 
-void SimFolder::writeFrame(int frame, const DensityGrids& volume, const openvdb::GridBase::Ptr& particles) const
+FrameFiles SimFolder::writeFrame(int frame, const DensityGrids& volume, const openvdb::GridBase::Ptr& particles,
+                                 uint64_t inputsHash) const
 {
-    writeVdb(densityFile(frame), {volume.density, volume.velocity});
-    writeVdb(particlesFile(frame), {particles});
+    openvdb::MetaMap metadata;
+    metadata.insertMeta(kInputsHashKey, openvdb::StringMetadata(hexText(inputsHash)));
+    metadata.insertMeta(kFrameKey, openvdb::Int32Metadata(frame));
+    writeVdb(densityFile(frame), {volume.density, volume.velocity}, metadata);
+    writeVdb(particlesFile(frame), {particles}, metadata);
+    return {fingerprint(densityFile(frame)), fingerprint(particlesFile(frame))};
+}
+
+FrameCheck SimFolder::checkFrame(const FrameRecord& record, uint64_t inputsHash, bool checkBytes) const
+{
+    using Status = FrameCheck::Status;
+    const int frame = record.frame;
+    if (!record.files) return {Status::Missing, "frame " + std::to_string(frame) + " was simulated but not written"};
+    const std::pair<std::string, FileFingerprint> files[] = {{densityFile(frame), record.files->density},
+                                                             {particlesFile(frame), record.files->particles}};
+    for (const auto& [path, written] : files) {
+        std::error_code ec;
+        const uint64_t size = fs::file_size(path, ec);
+        if (ec) return {Status::Missing, path + " is missing"};
+        openvdb::MetaMap metadata;
+        try {
+            metadata = readVdbMetadata(path);
+        } catch (const FileError& e) {
+            return {Status::Corrupt, e.what()};
+        }
+        const std::string problem = provenanceProblem(path, metadata, inputsHash, frame);
+        if (!problem.empty()) return {Status::Foreign, problem};
+        if (size != written.bytes)
+            return {Status::Corrupt,
+                    path + " has " + std::to_string(size) + " bytes, " + std::to_string(written.bytes) + " were written"};
+        if (checkBytes && !(fingerprint(path) == written))
+            return {Status::Corrupt, path + " is not the file written: its bytes differ"};
+    }
+    return {};
 }
 
 void SimFolder::writeTracks(const Tracks& tracks, double fps) const { writeTextAtomically(tracksFile(), tracks.toJsonText(fps)); }
 
-void SimFolder::writeStats(const std::vector<FrameRecord>& records, const std::vector<FieldRecord>& fields, double fps) const
-{
-    writeTextAtomically(statsFile(), statsJsonText({fps, fields, records}));
-}
+void SimFolder::writeStats(const StatsFile& stats) const { writeTextAtomically(statsFile(), statsJsonText(stats)); }
 
 void SimFolder::writeRunState(const RunState& state) const { writeTextAtomically(stateFile(), runStateBytes(state)); }
 

@@ -2,13 +2,17 @@
 
 #include <vfield/core/error.h>
 #include <vfield/core/vdb_file.h>
+#include <vfield/scene/host_scene.h>
 #include <vfield/scene/inputs_hash.h>
 #include <vfield/scene/memory_estimate.h>
 #include <vfield/volume/density_splat.h>
 #include <vfield/volume/particle_grid.h>
 
+#include <tbb/parallel_for.h>
+
 #include <chrono>
 #include <filesystem>
+#include <optional>
 
 namespace fs = std::filesystem;
 
@@ -36,6 +40,25 @@ void keepClosest(std::vector<PairClearance>& closest, const PairClearance& pair)
     else if (pair.minimum < same->minimum) *same = pair;
 }
 
+struct BadFrame {
+    int frame;
+    FrameCheck check;
+};
+
+/// The first frame from writeFirst on that the saved run wrote and that is no
+/// longer as written (missing, foreign or corrupt). Frames are checked in
+/// parallel: it reads their bytes.
+std::optional<BadFrame> firstBadFrame(const SimFolder& folder, const RunState& run, int writeFirst)
+{
+    std::vector<FrameCheck> checks(run.records.size());
+    tbb::parallel_for(std::size_t(0), run.records.size(), [&](std::size_t i) {
+        if (run.records[i].frame >= writeFirst) checks[i] = folder.checkFrame(run.records[i], run.inputsHash);
+    });
+    for (std::size_t i = 0; i < checks.size(); ++i)
+        if (checks[i].status != FrameCheck::Status::Good) return BadFrame{run.records[i].frame, checks[i]};
+    return std::nullopt;
+}
+
 } // namespace
 
 SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, const SimulateOptions& options)
@@ -59,9 +82,7 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
         }
     }
 
-    std::error_code ec;
-    fs::create_directories(outputDir, ec);
-    if (ec) throw FileError(outputDir, "cannot create the output folder: " + ec.message());
+    const FolderLock lock(outputDir, "vfield simulate", options.waitForFolder);
     const SimFolder folder(outputDir);
 
     Simulator simulator(setup);
@@ -81,11 +102,27 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
             throw FileError(outputDir,
                             "holds a simulation of another scene (" + saved.scenePath + "): use another folder or remove it");
         if (saved.inputsHash == run.inputsHash) {
-            simulator.restoreState(saved.simulatorState);
-            if (simulator.frame() > writeLast)
-                throw ValueError("the output folder already holds frames up to " + std::to_string(simulator.frame()));
             run = std::move(saved);
-            summary.resumedAfterFrame = simulator.frame();
+            const std::optional<BadFrame> bad = firstBadFrame(folder, run, writeFirst);
+            if (!bad) {
+                simulator.restoreState(run.simulatorState);
+                if (simulator.frame() > writeLast)
+                    throw ValueError("the output folder already holds frames up to " + std::to_string(simulator.frame()));
+                summary.resumedAfterFrame = simulator.frame();
+            } else {
+                // Back to the last good frame: from the initial state, as
+                // every run starts, stepping without writing (bit for bit what
+                // was simulated before).
+                const int good = bad->frame - 1;
+                summary.resimulatedFrom = bad->frame;
+                summary.resimulatedBecause = std::string(enumName(bad->check.status)) + ": " + bad->check.detail;
+                run.records.erase(std::remove_if(run.records.begin(), run.records.end(),
+                                                 [good](const FrameRecord& r) { return r.frame > good; }),
+                                  run.records.end());
+                run.tracks.keepUpTo(good);
+                while (simulator.frame() < good) simulator.advanceFrame();
+                if (good >= setup.firstFrame) summary.resumedAfterFrame = good;
+            }
         } else {
             folder.clear();
             summary.restartedStale = true;
@@ -142,12 +179,12 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
         }
         if (record.alive > 0) record.centroid /= double(record.alive);
         for (const std::size_t i : dynamic) run.tracks.add(simulator.objects()[i].spec->name, frame, simulator.objectStates()[i]);
-        run.records.push_back(record);
-
         if (frame >= writeFirst)
-            folder.writeFrame(frame, splatParticles(simulator.particles(), scene.volume),
-                              makeParticleGrid(simulator.particles()));
-        folder.writeStats(run.records, fields, setup.fps);
+            record.files =
+                folder.writeFrame(frame, splatParticles(simulator.particles(), scene.volume),
+                                  makeParticleGrid(simulator.particles(), scene.volume.particlePrecision), run.inputsHash);
+        run.records.push_back(record);
+        folder.writeStats({run.inputsHash, setup.fps, fields, run.records});
         folder.writeTracks(run.tracks, setup.fps);
         run.simulatorState = simulator.serializeState();
         folder.writeRunState(run); // last: marks the frame complete
@@ -164,6 +201,7 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
         }
     }
 
+    writeHostScene(scene, folder);
     summary.frames = run.records;
     for (const FrameRecord& r : summary.frames) {
         accumulate(summary.worstParticles, r.particleClearance);

@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstdio>
+
 namespace vfield {
 
 namespace {
@@ -30,6 +32,19 @@ ClearanceStats clearanceFromJson(const nlohmann::json& j)
     return c;
 }
 
+/// 64-bit hashes as 16 hexadecimal digits: JSON numbers lose their low bits in many readers.
+std::string hexText(uint64_t value)
+{
+    char text[17];
+    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(value));
+    return text;
+}
+
+uint64_t hexValue(const nlohmann::json& j) { return std::stoull(j.get<std::string>(), nullptr, 16); }
+
+nlohmann::json toJson(const FileFingerprint& f) { return {{"bytes", f.bytes}, {"hash", hexText(f.hash)}}; }
+FileFingerprint fingerprintFromJson(const nlohmann::json& j) { return {j.at("bytes").get<uint64_t>(), hexValue(j.at("hash"))}; }
+
 nlohmann::json toJson(const FrameRecord& r)
 {
     const bool any = r.alive > 0;
@@ -49,7 +64,9 @@ nlohmann::json toJson(const FrameRecord& r)
             {"endedInside", r.endedInside},
             {"maxRollChangeDegrees", r.maxRollChange},
             {"seconds", r.seconds},
-            {"clearance", {{"particles", toJson(r.particleClearance)}, {"objects", pairs}}}};
+            {"clearance", {{"particles", toJson(r.particleClearance)}, {"objects", pairs}}},
+            {"files", r.files ? nlohmann::json{{"density", toJson(r.files->density)}, {"particles", toJson(r.files->particles)}}
+                              : nlohmann::json(nullptr)}};
 }
 
 FrameRecord recordFromJson(const nlohmann::json& j)
@@ -70,6 +87,8 @@ FrameRecord recordFromJson(const nlohmann::json& j)
         r.bounds = BBoxd(vecFromJson(j.at("boundsMin")), vecFromJson(j.at("boundsMax")));
     }
     r.particleClearance = clearanceFromJson(j.at("clearance").at("particles"));
+    if (const auto files = j.find("files"); files != j.end() && !files->is_null())
+        r.files = FrameFiles{fingerprintFromJson(files->at("density")), fingerprintFromJson(files->at("particles"))};
     for (const nlohmann::json& pair : j.at("clearance").at("objects"))
         r.objectPairs.push_back({pair.at("objects").at(0).get<std::string>(), pair.at("objects").at(1).get<std::string>(),
                                  pair.at("min").get<double>(), pair.value("exact", true)});
@@ -101,7 +120,10 @@ std::string statsJsonText(const StatsFile& stats)
                           {"buildSeconds", f.buildSeconds},
                           {"memoryBytes", f.memoryBytes},
                           {"finestCell", f.finestCell}});
-    const nlohmann::json json = {{"fps", stats.fps}, {"fields", fields}, {"frames", recordsToJson(stats.frames)}};
+    const nlohmann::json json = {{"inputsHash", hexText(stats.inputsHash)},
+                                 {"fps", stats.fps},
+                                 {"fields", fields},
+                                 {"frames", recordsToJson(stats.frames)}};
     return json.dump(1) + "\n";
 }
 
@@ -111,6 +133,7 @@ StatsFile statsFromJsonText(const std::string& text, const std::string& path)
         const nlohmann::json json = nlohmann::json::parse(text);
         StatsFile stats;
         stats.fps = json.at("fps").get<double>();
+        if (json.contains("inputsHash")) stats.inputsHash = hexValue(json.at("inputsHash"));
         for (const nlohmann::json& f : json.at("fields"))
             stats.fields.push_back({f.at("object").get<std::string>(), f.at("method").get<std::string>(),
                                     f.at("buildSeconds").get<double>(), f.at("memoryBytes").get<uint64_t>(),
@@ -118,6 +141,8 @@ StatsFile statsFromJsonText(const std::string& text, const std::string& path)
         stats.frames = recordsFromJson(json.at("frames"));
         return stats;
     } catch (const nlohmann::json::exception& e) {
+        throw FileError(path, std::string("unreadable statistics: ") + e.what());
+    } catch (const std::logic_error& e) { // a hash that is not hexadecimal
         throw FileError(path, std::string("unreadable statistics: ") + e.what());
     }
 }
@@ -129,6 +154,8 @@ std::vector<FrameRecord> frameRecordsFromJsonText(const std::string& text, const
     try {
         return recordsFromJson(nlohmann::json::parse(text));
     } catch (const nlohmann::json::exception& e) {
+        throw FileError(path, std::string("unreadable frame records: ") + e.what());
+    } catch (const std::logic_error& e) {
         throw FileError(path, std::string("unreadable frame records: ") + e.what());
     }
 }

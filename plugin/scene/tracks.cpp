@@ -69,6 +69,13 @@ void Tracks::add(const std::string& object, int frame, const DynamicState& state
     mObjects[object].push_back({frame, state.pose, state.velocity});
 }
 
+void Tracks::keepUpTo(int frame)
+{
+    for (auto& [name, entries] : mObjects)
+        entries.erase(std::remove_if(entries.begin(), entries.end(), [frame](const TrackEntry& e) { return e.frame > frame; }),
+                      entries.end());
+}
+
 Transform Tracks::pose(const std::string& object, int frame) const
 {
     const auto o = mObjects.find(object);

@@ -6,6 +6,7 @@
 
 #include <openvdb/tools/Filter.h>
 #include <openvdb/tools/Morphology.h>
+#include <openvdb/tools/Prune.h>
 #include <openvdb/tree/LeafManager.h>
 
 #include <tbb/blocked_range.h>
@@ -248,6 +249,54 @@ openvdb::FloatGrid::Ptr detailedDensity(const openvdb::FloatGrid& density, const
 
 } // namespace
 
+namespace {
+
+/// Deactivates every voxel below threshold, its value set to the background
+/// (so that files need not store it), and prunes the leaves left empty.
+void leaveOutBelow(openvdb::FloatGrid& grid, float threshold)
+{
+    // The voxels on the faces of the active box stay, so that the grid keeps
+    // its bounds: what is placed by them (a renderer's light lattice, a
+    // host's bounding box) does not move.
+    const openvdb::CoordBBox bounds = grid.evalActiveVoxelBoundingBox();
+    const auto onFace = [&bounds](const openvdb::Coord& c) {
+        for (int axis = 0; axis < 3; ++axis)
+            if (c[axis] == bounds.min()[axis] || c[axis] == bounds.max()[axis]) return true;
+        return false;
+    };
+    openvdb::tree::LeafManager<openvdb::FloatTree> leaves(grid.tree());
+    leaves.foreach ([&](openvdb::FloatTree::LeafNodeType& leaf, std::size_t) {
+        for (auto it = leaf.beginValueOn(); it; ++it)
+            if (*it < threshold && !onFace(it.getCoord())) leaf.setValueOff(it.pos(), 0.0f);
+    });
+    openvdb::tools::pruneInactive(grid.tree());
+}
+
+/// Leaves out the velocities where there is no density (of no use to a
+/// host), their values the background so that they cost no bytes. The
+/// density may be finer than the velocity (its detail): a velocity voxel is
+/// kept when any density voxel it overlaps is.
+void keepWhereActive(openvdb::Vec3SGrid& velocity, const openvdb::FloatGrid& density)
+{
+    openvdb::tree::LeafManager<openvdb::Vec3STree> leaves(velocity.tree());
+    leaves.foreach ([&](openvdb::Vec3STree::LeafNodeType& leaf, std::size_t) {
+        const auto kept = density.getConstAccessor();
+        for (auto it = leaf.beginValueOn(); it; ++it) {
+            const openvdb::Vec3d centre = it.getCoord().asVec3d();
+            const openvdb::Vec3d lo = density.worldToIndex(velocity.indexToWorld(centre - 0.5)),
+                                 hi = density.worldToIndex(velocity.indexToWorld(centre + 0.5));
+            // Density voxels whose centres lie within the velocity voxel.
+            const openvdb::CoordBBox overlap(openvdb::Coord::ceil(lo - 0.5 + 1e-6), openvdb::Coord::floor(hi + 0.5 - 1e-6));
+            bool any = false;
+            for (auto c = overlap.begin(); c && !any; ++c) any = kept.isValueOn(*c);
+            if (!any) leaf.setValueOff(it.pos(), openvdb::Vec3s(0.0f));
+        }
+    });
+    openvdb::tools::pruneInactive(velocity.tree());
+}
+
+} // namespace
+
 DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& options)
 {
     double meanRadius = 0.0;
@@ -389,16 +438,22 @@ DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& o
         density.setValue(it.getCoord(), float(perWeight * w));
         velocity.setValue(it.getCoord(), momentum.getValue(it.getCoord()) / w);
     }
+    // The peak density of one lone particle: the scale of the edges and of the cutoff.
+    const double lonePeak = perWeight * std::pow(centreWeight(passes), 3);
     if (!channels.empty()) {
-        // By default the edge is the peak density of one lone particle.
-        const double lonePeak = perWeight * std::pow(centreWeight(passes), 3);
         const double softness = resolved.detail.edgeSoftness > 0.0 ? resolved.detail.edgeSoftness : lonePeak;
         grids.density = detailedDensity(*grids.density, restMeans, channels, resolved.detail, softness);
+    }
+    if (resolved.cutoff > 0.0) {
+        leaveOutBelow(*grids.density, float(resolved.cutoff * lonePeak));
+        keepWhereActive(*grids.velocity, *grids.density);
     }
     grids.density->setName("density");
     grids.density->setGridClass(openvdb::GRID_FOG_VOLUME);
     grids.velocity->setName("vel");
     grids.velocity->setVectorType(openvdb::VEC_CONTRAVARIANT_RELATIVE);
+    grids.density->setSaveFloatAsHalf(options.densityPrecision == GridPrecision::Half);
+    grids.velocity->setSaveFloatAsHalf(options.velocityPrecision == GridPrecision::Half);
     return grids;
 }
 

@@ -1,37 +1,58 @@
 #include <vfield/volume/particle_grid.h>
 
+#include <openvdb/points/PointAttribute.h>
 #include <openvdb/points/PointConversion.h>
 #include <openvdb/points/PointCount.h>
 
 namespace vfield {
 
-openvdb::GridBase::Ptr makeParticleGrid(const ParticleSet& particles)
+namespace {
+
+template<typename PositionCodec, typename VectorCodec>
+openvdb::points::PointDataGrid::Ptr particleGrid(const ParticleSet& particles)
 {
     using namespace openvdb;
-    initialize(); // registers the point attribute types
     const points::PointAttributeVector<Vec3f> positions(particles.position);
-    const float voxelSize = particles.size() > 8 ? points::computeVoxelSize(positions, 8) : 1.0f;
+    // Sixteen particles a voxel: fewer voxels and leaves to store than
+    // OpenVDB's usual eight, the positions still 16-bit fixed point within each.
+    constexpr uint32_t kParticlesPerVoxel = 16;
+    const float voxelSize =
+        particles.size() > kParticlesPerVoxel ? points::computeVoxelSize(positions, kParticlesPerVoxel) : 1.0f;
     const auto transform = math::Transform::createLinearTransform(voxelSize);
     const tools::PointIndexGrid::Ptr index = tools::createPointIndexGrid<tools::PointIndexGrid>(positions, *transform);
     points::PointDataGrid::Ptr grid =
-        points::createPointDataGrid<points::NullCodec, points::PointDataGrid>(*index, positions, *transform);
+        points::createPointDataGrid<PositionCodec, points::PointDataGrid>(*index, positions, *transform);
     grid->setName("particles");
 
-    std::vector<int32_t> ids(particles.id.begin(), particles.id.end());
     points::PointDataTree& tree = grid->tree();
-    points::appendAttribute<Vec3f>(tree, "v");
-    points::populateAttribute(tree, index->tree(), "v", points::PointAttributeVector<Vec3f>(particles.velocity));
-    points::appendAttribute<Vec3f>(tree, "rest");
-    points::populateAttribute(tree, index->tree(), "rest", points::PointAttributeVector<Vec3f>(particles.rest));
+    const auto vectors = [&](const char* name, const std::vector<Vec3f>& values) {
+        points::appendAttribute<Vec3f, VectorCodec>(tree, name);
+        points::populateAttribute(tree, index->tree(), name, points::PointAttributeVector<Vec3f>(values));
+    };
+    vectors("v", particles.velocity);
+    vectors("rest", particles.rest);
     if (!particles.rest2.empty()) {
-        points::appendAttribute<Vec3f>(tree, "rest2");
-        points::populateAttribute(tree, index->tree(), "rest2", points::PointAttributeVector<Vec3f>(particles.rest2));
+        vectors("rest2", particles.rest2);
         grid->insertMeta("rest2Weight", FloatMetadata(particles.rest2Weight));
     }
+    const std::vector<int32_t> ids(particles.id.begin(), particles.id.end());
     points::appendAttribute<int32_t>(tree, "id");
     points::populateAttribute(tree, index->tree(), "id", points::PointAttributeVector<int32_t>(ids));
-    points::appendAttribute<float>(tree, "pscale");
+    points::appendAttribute<float, VectorCodec>(tree, "pscale");
     points::populateAttribute(tree, index->tree(), "pscale", points::PointAttributeVector<float>(particles.radius));
+    return grid;
+}
+
+} // namespace
+
+openvdb::GridBase::Ptr makeParticleGrid(const ParticleSet& particles, ParticlePrecision precision)
+{
+    openvdb::initialize(); // registers the point attribute types
+    if (precision == ParticlePrecision::Full)
+        return particleGrid<openvdb::points::NullCodec, openvdb::points::NullCodec>(particles);
+    openvdb::points::PointDataGrid::Ptr grid =
+        particleGrid<openvdb::points::FixedPointCodec<false>, openvdb::points::TruncateCodec>(particles);
+    openvdb::points::compactAttributes(grid->tree()); // a cloud's pscale: one value per leaf
     return grid;
 }
 

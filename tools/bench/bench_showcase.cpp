@@ -29,7 +29,7 @@ ShowcaseFrame::ShowcaseFrame() : scene(loadScene(VFIELD_SCENES_DIR "/cloud_over_
     const SimFolder folder(dir);
     if (!std::filesystem::exists(folder.densityFile(100))) {
         std::filesystem::remove_all(dir);
-        simulateScene(scene, dir, {100, 100, {}, {}});
+        simulateScene(scene, dir, SimulateOptions::writing(100, 100));
     }
     density = folder.readDensity(100);
     terrain = makeMesh(scene.simulation.objects[0].mesh);

@@ -64,4 +64,17 @@ void addMaxMemoryOption(CLI::App& command, std::optional<double>& bytes)
         ->type_name("SIZE");
 }
 
+void addWaitOption(CLI::App& command, bool& wait)
+{
+    command.add_flag("--wait", wait,
+                     "When another vfield is writing the output folder, wait for it to finish instead of refusing "
+                     "(a farm's jobs, a requeued job)");
+}
+
+FolderLock::Waiting folderWaiting(bool wait, const GlobalOptions& global, const std::string& folder)
+{
+    if (!wait) return {};
+    return [&global, folder](const std::string& holder) { log(global, folder + ": waiting for " + holder); };
+}
+
 } // namespace vfield::cli

@@ -4,6 +4,8 @@
 
 #include "command.h"
 
+#include <vfield/core/folder_lock.h>
+
 #include <optional>
 
 namespace vfield::cli {
@@ -14,6 +16,11 @@ struct FrameRange {
 
 /// --frames A-B or A.
 void addFrameRangeOption(CLI::App& command, std::optional<FrameRange>& range, const std::string& help);
+
+/// --wait: wait for another vfield writing the same folder instead of
+/// refusing; the returned waiting callback logs who (empty without --wait).
+void addWaitOption(CLI::App& command, bool& wait);
+FolderLock::Waiting folderWaiting(bool wait, const GlobalOptions& global, const std::string& folder);
 
 /// --max-memory SIZE (bytes, or with K, M, G, T: binary multiples) for the commands that simulate.
 void addMaxMemoryOption(CLI::App& command, std::optional<double>& bytes);

@@ -5,8 +5,12 @@
 #include "command.h"
 #include "scene_cli_options.h"
 
+#include <vfield/core/error.h>
+#include <vfield/core/folder_lock.h>
 #include <vfield/scene/host_scene.h>
 #include <vfield/scene/sim_folder.h>
+
+#include <filesystem>
 
 namespace vfield::cli {
 
@@ -25,6 +29,8 @@ Runner registerExportScene(CLI::App& app, const GlobalOptions& global)
 
     return [o, &global] {
         const Scene scene = loadScene(o->scene);
+        if (!std::filesystem::is_directory(o->sim)) throw FileError(o->sim, "no such simulation folder");
+        const FolderLock lock(o->sim, "vfield export-scene");
         const SimFolder simulation(o->sim);
         writeHostScene(scene, simulation);
         log(global, hostSceneDir(simulation) + "/host.json written");

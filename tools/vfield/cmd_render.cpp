@@ -25,7 +25,7 @@ struct RenderCliOptions {
     std::optional<FrameRange> frames;
     std::string formats = "png", backend = "embree";
     int threads = 0, povrayThreads = 0;
-    bool force = false, keepScene = false;
+    bool force = false, keepScene = false, wait = false;
 };
 
 void addRenderOptions(CLI::App& command, RenderCliOptions& o, SceneCliOptions& scene)
@@ -49,6 +49,7 @@ void addRenderOptions(CLI::App& command, RenderCliOptions& o, SceneCliOptions& s
         ->capture_default_str();
     command.add_option("--threads", o.threads, "Worker threads [default: all cores]")->check(CLI::PositiveNumber);
     command.add_flag("--force", o.force, "Render frames whose images exist");
+    addWaitOption(command, o.wait);
 }
 
 RenderRunOptions toRunOptions(const RenderCliOptions& o, const CLI::App& command)
@@ -69,9 +70,10 @@ RenderRunOptions toRunOptions(const RenderCliOptions& o, const CLI::App& command
 }
 
 void renderWithProgress(const Scene& scene, const std::string& simDir, const std::string& output, RenderRunOptions options,
-                        const GlobalOptions& global)
+                        bool waitForFolders, const GlobalOptions& global)
 {
     options.warning = [&global](const std::string& line) { log(global, "warning: " + line); };
+    options.waitForFolder = folderWaiting(waitForFolders, global, output);
     ProgressLine progress(global.quiet);
     options.progress = [&progress](int frame, int done, int total, double seconds) {
         progress.update(done, total, seconds, "(rendered frame " + std::to_string(frame) + ")");
@@ -116,7 +118,7 @@ Runner registerRender(CLI::App& app, const GlobalOptions& global)
 
     return [o, command, &global] {
         const auto threads = limitThreads(o->render.threads);
-        renderWithProgress(loadScene(o->scene), o->sim, o->output, toRunOptions(o->render, *command), global);
+        renderWithProgress(loadScene(o->scene), o->sim, o->output, toRunOptions(o->render, *command), o->render.wait, global);
     };
 }
 
@@ -145,16 +147,19 @@ Runner registerRun(CLI::App& app, const GlobalOptions& global)
         simulate.maxMemoryBytes = o->maxMemory;
         simulate.firstFrame = options.firstFrame;
         simulate.lastFrame = options.lastFrame;
+        simulate.waitForFolder = folderWaiting(o->render.wait, global, o->output + "/sim");
         {
             ProgressLine progress(global.quiet);
             simulate.progress = [&progress](const FrameProgress& p) {
                 progress.update(p.done, p.total, p.elapsedSeconds,
                                 "(simulated frame " + std::to_string(p.frame) + ", " + std::to_string(p.alive) + " particles)");
             };
-            simulateScene(scene, o->output + "/sim", simulate);
+            const SimulateSummary summary = simulateScene(scene, o->output + "/sim", simulate);
+            if (summary.resimulatedFrom >= 0)
+                log(global, "frame " + std::to_string(summary.resimulatedFrom) + " was not as written (" +
+                                summary.resimulatedBecause + "): simulated again from there");
         }
-        writeHostScene(scene, SimFolder(o->output + "/sim"));
-        renderWithProgress(scene, o->output + "/sim", o->output, options, global);
+        renderWithProgress(scene, o->output + "/sim", o->output, options, o->render.wait, global);
     };
 }
 

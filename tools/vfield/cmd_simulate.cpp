@@ -37,6 +37,7 @@ Runner registerSimulate(CLI::App& app, const GlobalOptions& global)
         std::optional<FrameRange> frames;
         int threads = 0;
         std::optional<double> maxMemory;
+        bool wait = false;
     };
     auto o = std::make_shared<Options>();
     CLI::App* command = app.add_subcommand("simulate", "Animate a scene and write OpenVDB volumes and particles per frame");
@@ -46,12 +47,14 @@ Runner registerSimulate(CLI::App& app, const GlobalOptions& global)
     addFrameRangeOption(*command, o->frames, "Frames to write, A-B or A [default: the scene's range]");
     command->add_option("--threads", o->threads, "Worker threads [default: all cores]")->check(CLI::PositiveNumber);
     addMaxMemoryOption(*command, o->maxMemory);
+    addWaitOption(*command, o->wait);
 
     return [o, &global] {
         const auto threads = limitThreads(o->threads);
         const Scene scene = loadScene(o->scene);
         SimulateOptions options;
         options.maxMemoryBytes = o->maxMemory;
+        options.waitForFolder = folderWaiting(o->wait, global, o->output);
         if (o->frames) {
             options.firstFrame = o->frames->first;
             options.lastFrame = o->frames->last;
@@ -62,10 +65,12 @@ Runner registerSimulate(CLI::App& app, const GlobalOptions& global)
                             "(frame " + std::to_string(p.frame) + ", " + std::to_string(p.alive) + " particles)");
         };
         const SimulateSummary summary = simulateScene(scene, o->output, options);
-        writeHostScene(scene, SimFolder(o->output));
         for (const std::string& warning : summary.warnings) log(global, "warning: " + warning);
         if (summary.restartedStale)
             log(global, o->output + " held a simulation of an earlier edit of the scene or its meshes: simulated afresh");
+        if (summary.resimulatedFrom >= 0)
+            log(global, "frame " + std::to_string(summary.resimulatedFrom) + " was not as written (" +
+                            summary.resimulatedBecause + "): simulated again from there");
         if (summary.resumedAfterFrame >= 0) log(global, "resumed after frame " + std::to_string(summary.resumedAfterFrame));
         log(global, "clearance of particles: " + describe(summary.worstParticles));
         for (const PairClearance& pair : summary.closestPairs) {

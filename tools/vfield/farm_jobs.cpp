@@ -143,21 +143,23 @@ std::vector<std::string> writeFarmScripts(const FarmPlan& plan)
         const std::string scene = sceneArguments(plan, v);
         const std::string range = std::to_string(plan.first) + "-" + std::to_string(plan.last);
 
-        // Sequential in time; a requeued job resumes after its last complete frame.
+        // Sequential in time; a requeued job resumes after its last complete
+        // frame, waiting for its earlier self to let go of the folder.
         const std::string simulate = header(plan, "vfield-simulate" + tag, dir + "/simulate-%j.log") +
                                      "#SBATCH --requeue\nset -euo pipefail\n" + quote(plan.vfield) + " simulate " + scene +
-                                     " -o " + quote(v.dir + "/sim") + " --frames " + range +
+                                     " -o " + quote(v.dir + "/sim") + " --wait --frames " + range +
                                      " --threads \"${SLURM_CPUS_PER_TASK:-" + std::to_string(plan.cpusPerTask) + "}\"\n";
-        // A chunk of frames per array task; finished frames are skipped.
+        // A chunk of frames per array task, one task at a time (a folder has
+        // one writer); finished frames are skipped.
         std::string renderArgs;
         for (const std::string& a : plan.renderArgs) renderArgs += " " + quote(a);
         const std::string render = header(plan, "vfield-render" + tag, dir + "/render-%A_%a.log") + "#SBATCH --array=0-" +
-                                   std::to_string(plan.chunks() - 1) + "\nset -euo pipefail\nfirst=$((" +
+                                   std::to_string(plan.chunks() - 1) + "%1\nset -euo pipefail\nfirst=$((" +
                                    std::to_string(plan.first) + " + ${SLURM_ARRAY_TASK_ID:?} * " + std::to_string(plan.chunk) +
                                    "))\nlast=$((first + " + std::to_string(plan.chunk - 1) + "))\n(( last > " +
                                    std::to_string(plan.last) + " )) && last=" + std::to_string(plan.last) + "\n" +
                                    quote(plan.vfield) + " render " + scene + " --sim " + quote(v.dir + "/sim") + " -o " +
-                                   quote(v.dir) + " --frames \"$first-$last\" --threads \"${SLURM_CPUS_PER_TASK:-" +
+                                   quote(v.dir) + " --wait --frames \"$first-$last\" --threads \"${SLURM_CPUS_PER_TASK:-" +
                                    std::to_string(plan.cpusPerTask) + "}\"" + renderArgs + "\n";
         const std::string finish = header(plan, "vfield-finish" + tag, dir + "/finish-%j.log") + "set -euo pipefail\n" +
                                    quote(plan.toolsDir + "/make-sheet") + " " + quote(v.dir) + " " +

@@ -60,6 +60,7 @@ int main(int argc, char** argv)
         {"metrics", registerMetrics(app, global)},
         {"farm", registerFarm(app, global)},
         {"help", registerHelp(app, global)},
+        {"verify", registerVerify(app, global)},
     };
 
     try {

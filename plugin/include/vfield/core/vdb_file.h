@@ -15,12 +15,17 @@
 
 namespace vfield {
 
-/// Writes the grids to path (temporary name, then rename).
-void writeVdb(const std::string& path, const openvdb::GridPtrVec& grids);
+/// Writes the grids to path (temporary name, then rename), with the file's
+/// own metadata (what made it, beside the grids' own).
+void writeVdb(const std::string& path, const openvdb::GridPtrVec& grids, const openvdb::MetaMap& fileMetadata = {});
 
-/// Reads every grid of the file. Throws FileError for a missing, unreadable
-/// or corrupt file, or one without grids.
-openvdb::GridPtrVec readVdb(const std::string& path);
+/// Reads every grid of the file, and its file metadata when asked. Throws
+/// FileError for a missing, unreadable or corrupt file, or one without grids.
+openvdb::GridPtrVec readVdb(const std::string& path, openvdb::MetaMap* fileMetadata = nullptr);
+
+/// The file's metadata alone, without reading its grids. Throws FileError
+/// for a missing or unreadable file.
+openvdb::MetaMap readVdbMetadata(const std::string& path);
 
 /// What `vfield info` prints of a grid.
 struct GridSummary {

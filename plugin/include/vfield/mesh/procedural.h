@@ -145,6 +145,11 @@ TriangleMesh makeTerrain(const TerrainOptions& options);
 /// its rows along +z; heights are heightScale x the pixel value (integer
 /// formats read as [0, 1]), sampled bilinearly at the grid's points.
 struct HeightmapOptions {
+    /// Heights, pixel value x heightScale, must lie within +-this many world
+    /// units: a real elevation model is thousands of units high, a broken one
+    /// 1e30, which no float mesh can hold.
+    static constexpr double kMaxHeight = 1e6;
+
     std::string path;            ///< the image (a scene file's path is resolved against its folder)
     double sizeX = 200.0;        ///< extent along x, world units (1e-9..1e12)
     double sizeZ = 200.0;        ///< extent along z, world units (1e-9..1e12)
@@ -152,6 +157,10 @@ struct HeightmapOptions {
     int cellsX = 0;              ///< grid cells along x (0..8192); 0: one per pixel
     int cellsZ = 0;              ///< grid cells along z (0..8192); 0: one per pixel
     double baseThickness = 10.0; ///< depth of the solid below its lowest point, world units (1e-9..1e12)
+    /// Pixels that hold no number (NaN or infinite: an elevation model's
+    /// no-data holes) take the value of their nearest valid pixel; otherwise
+    /// the first one is refused, naming it.
+    bool fillNoData = false;
 
     void validate() const;
 
@@ -176,8 +185,13 @@ struct HeightmapOptions {
                   .range(1e-9, 1e12)
                   .unit("world units")
                   .doc("depth of the solid below its lowest point"));
+        visit(field("fillNoData", self.fillNoData)
+                  .doc("fill pixels that hold no number (NaN or infinite: no-data holes) from their nearest valid pixel; "
+                       "otherwise such a pixel is refused, naming it"));
     }
 };
+/// Throws FileError naming the file and the first pixel (x, y) that holds no
+/// number (unless fillNoData), or whose height lies beyond kMaxHeight.
 TriangleMesh makeHeightmapTerrain(const HeightmapOptions& options);
 
 struct SphereOptions {

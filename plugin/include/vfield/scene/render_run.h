@@ -3,14 +3,17 @@
 /// Scene + a simulation folder -> image files, one set per frame, through a
 /// back-end picked by name (render_backends.h: embree, povray or both).
 /// Reads each frame's density and the dynamic objects' tracks through
-/// SimFolder; places the dynamic objects and the camera, lights the cloud,
+/// SimFolder, refusing a frame that the folder's simulation did not make
+/// (its inputs hash, stats.json's, differs); places the dynamic objects and the camera, lights the cloud,
 /// and hands the frame to the back-end. Frames rendered before with the same
 /// settings whose images are newer than their simulation are skipped unless
-/// forced (OUT/render-stamps.json records each frame's settings).
+/// forced (OUT/render-stamps.json records each frame's settings). One run
+/// writes an output folder at a time (FolderLock).
 /// Every back-end reads the scene's render settings and nothing else: to
 /// change the image size or samples, change the scene (Scene::render.image),
 /// as the command line's --resolution and --spp do.
 
+#include <vfield/core/folder_lock.h>
 #include <vfield/render/materials.h>
 #include <vfield/scene/scene.h>
 
@@ -35,6 +38,10 @@ struct RenderRunOptions {
     /// Called once per thing the scene asks that the back-end cannot draw,
     /// before the first frame.
     std::function<void(const std::string& line)> warning;
+    /// The output folder has one writer at a time (FolderLock). When another
+    /// process writes it, this is called with who, and the run waits for it;
+    /// unset: the run is refused at once.
+    FolderLock::Waiting waitForFolder;
 };
 
 struct RenderRunSummary {

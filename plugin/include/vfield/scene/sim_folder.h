@@ -6,11 +6,16 @@
 ///   field.vdb            the static objects' combined `force` grid, world space
 ///   density.####.vdb     `density` (FloatGrid) and `vel` (Vec3SGrid), world space
 ///   particles.####.vdb   `particles` (PointDataGrid: P, v, id, pscale)
+///     each frame file carries, as file metadata, the inputs hash of the run
+///     that wrote it (`vfield:inputsHash`, 16 hexadecimal digits) and its frame
+///     (`vfield:frame`); stats.json records each one's size and a hash of its bytes
 ///   tracks.json          per frame, each dynamic object's pose and velocity (Tracks)
 ///   stats.json           per frame, particles alive and removed, substeps, clearances (FrameRecord)
 ///   state.bin            the state after the last complete frame, to resume from (RunState)
+///   .vfield-lock         held by the one process writing the folder (FolderLock)
 /// Every file is written atomically.
 
+#include <vfield/core/fields.h>
 #include <vfield/scene/run_state.h>
 #include <vfield/scene/stats_file.h>
 #include <vfield/scene/tracks.h>
@@ -20,10 +25,28 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace vfield {
+
+/// What a frame's files are, checked against what the folder recorded.
+struct FrameCheck {
+    enum class Status {
+        Good,    ///< both files there, made by this folder's simulation, as written
+        Missing, ///< a file is not there (or the frame was never written)
+        Foreign, ///< a file was made by another simulation, or for another frame
+        Corrupt  ///< a file is not as written: another size or other bytes, or unreadable
+    };
+    Status status = Status::Good;
+    std::string detail; ///< for other than Good: the file and what is wrong with it
+};
+inline constexpr EnumName<FrameCheck::Status> kFrameCheckStatusNames[] = {{FrameCheck::Status::Good, "good"},
+                                                                          {FrameCheck::Status::Missing, "missing"},
+                                                                          {FrameCheck::Status::Foreign, "foreign"},
+                                                                          {FrameCheck::Status::Corrupt, "corrupt"}};
+constexpr const auto& enumNames(FrameCheck::Status) { return kFrameCheckStatusNames; }
 
 class SimFolder {
 public:
@@ -38,18 +61,24 @@ public:
     std::string stateFile() const;
 
     /// The frame's density grid, checked: the file exists, holds a float grid
-    /// named `density`, and every active value is finite. Throws FileError.
-    openvdb::FloatGrid::Ptr readDensity(int frame) const;
+    /// named `density`, every active value is finite, and it was made by the
+    /// simulation whose inputs hash is given (when given). Throws FileError.
+    openvdb::FloatGrid::Ptr readDensity(int frame, std::optional<uint64_t> inputsHash = std::nullopt) const;
+    /// The frame's files against the record of them and the folder's inputs
+    /// hash: their metadata always, their bytes with checkBytes.
+    FrameCheck checkFrame(const FrameRecord& record, uint64_t inputsHash, bool checkBytes = true) const;
     /// tracks.json. Throws FileError when it is missing or unreadable.
     Tracks readTracks() const;
     StatsFile readStats() const;
     bool hasRunState() const;
     RunState readRunState() const;
 
-    void writeFrame(int frame, const DensityGrids& volume, const openvdb::GridBase::Ptr& particles) const;
+    /// The frame's density and particle files, stamped with the simulation's
+    /// inputs hash and the frame; returns their fingerprints.
+    FrameFiles writeFrame(int frame, const DensityGrids& volume, const openvdb::GridBase::Ptr& particles,
+                          uint64_t inputsHash) const;
     void writeTracks(const Tracks& tracks, double fps) const;
-    /// stats.json: the fields as this run built them, then every frame's record.
-    void writeStats(const std::vector<FrameRecord>& records, const std::vector<FieldRecord>& fields, double fps) const;
+    void writeStats(const StatsFile& stats) const;
     /// Written last after a frame: marks it complete.
     void writeRunState(const RunState& state) const;
     /// Removes every file a simulation writes here (frames, tracks, stats,

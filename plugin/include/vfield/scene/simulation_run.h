@@ -1,14 +1,20 @@
 #pragma once
 /// @file simulation_run.h
 /// Scene -> a simulation folder (sim_folder.h): the static field, density and
-/// particle grids per frame, tracks, statistics and the state to resume from.
+/// particle grids per frame, tracks, statistics, the state to resume from,
+/// and what a host rebuilds the scene from (host/, host_scene.h).
 ///
+/// One run writes a folder at a time (FolderLock): a second is refused at
+/// once, or waits when asked to.
 /// A run that finds a state of the same scene with the same inputs resumes
 /// after its last complete frame and gives the same files as an uninterrupted
-/// run. If the scene file or a mesh it names was edited since, the folder's
-/// files are stale: the run removes them and simulates afresh (and says so). A
-/// folder holding a simulation of another scene file is refused.
+/// run. It first checks that every frame the earlier runs wrote is still there
+/// as written (stamped with the same inputs hash, of the size and bytes
+/// stats.json records): from the first that is not, it simulates again. If the scene file or a mesh it names was edited since,
+/// the folder's files are stale: the run removes them and simulates afresh (and says so). A folder holding a simulation of
+/// another scene file is refused.
 
+#include <vfield/core/folder_lock.h>
 #include <vfield/scene/scene.h>
 #include <vfield/scene/sim_folder.h>
 
@@ -27,6 +33,15 @@ struct FrameProgress {
 };
 
 struct SimulateOptions {
+    /// Options that write only frames first..last.
+    static SimulateOptions writing(int first, int last)
+    {
+        SimulateOptions options;
+        options.firstFrame = first;
+        options.lastFrame = last;
+        return options;
+    }
+
     /// Frames to write, within the scene's range; earlier frames are simulated
     /// but not written. Unset: the scene's whole range.
     std::optional<int> firstFrame, lastFrame;
@@ -35,11 +50,20 @@ struct SimulateOptions {
     /// Refuse, before loading anything, a scene estimated to need more memory
     /// than this (bytes; memory_estimate.h). Unset: the memory available now.
     std::optional<double> maxMemoryBytes;
+    /// The folder has one writer at a time (FolderLock). When another process
+    /// writes it, this is called with who, and the run waits for it; unset:
+    /// the run is refused at once.
+    FolderLock::Waiting waitForFolder;
 };
 
 struct SimulateSummary {
-    std::vector<FrameRecord> frames;   ///< every frame simulated so far, resumed ones included
-    int resumedAfterFrame = -1;        ///< the frame a saved state was resumed after, or -1
+    std::vector<FrameRecord> frames; ///< every frame simulated so far, resumed ones included
+    int resumedAfterFrame = -1;      ///< the frame a saved state was resumed after, or -1
+    /// The first frame an earlier run wrote that was missing, foreign or
+    /// corrupt, so that the run simulated it again (from the initial state,
+    /// writing nothing before it), or -1; and what was wrong with it.
+    int resimulatedFrom = -1;
+    std::string resimulatedBecause;
     bool restartedStale = false;       ///< the folder held a run of an earlier edit of the scene
     std::vector<std::string> warnings; ///< e.g. open meshes whose inside is undefined
     ClearanceStats worstParticles;     ///< the particles' minima over all frames, penetrations summed

@@ -8,6 +8,7 @@
 #include <vfield/sim/clearance.h>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,19 @@ struct FieldRecord {
     double finestCell = 0.0;   ///< world units
 };
 
+/// A file as its writer left it: its size and a hash of its bytes, so that a
+/// later run sees a file replaced, truncated or damaged since.
+struct FileFingerprint {
+    uint64_t bytes = 0;
+    uint64_t hash = 0; ///< ContentHash of the bytes
+    bool operator==(const FileFingerprint& o) const { return bytes == o.bytes && hash == o.hash; }
+};
+
+/// The files a frame wrote.
+struct FrameFiles {
+    FileFingerprint density, particles;
+};
+
 /// One frame's line of stats.json.
 struct FrameRecord {
     int frame = 0;
@@ -34,10 +48,12 @@ struct FrameRecord {
     std::vector<PairClearance> objectPairs; ///< every dynamic object against every other: closest over the frame's substeps
     Vec3d centroid{0.0};                    ///< mean particle position, world units
     BBoxd bounds;                           ///< box of the particles (empty without particles)
+    std::optional<FrameFiles> files;        ///< what it wrote; none for a frame simulated but not written
 };
 
 /// stats.json.
 struct StatsFile {
+    uint64_t inputsHash = 0; ///< of the simulation that wrote the folder (inputs_hash.h)
     double fps = 24.0;
     std::vector<FieldRecord> fields;
     std::vector<FrameRecord> frames;

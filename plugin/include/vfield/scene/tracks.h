@@ -24,6 +24,8 @@ struct TrackEntry {
 class Tracks {
 public:
     void add(const std::string& object, int frame, const DynamicState& state);
+    /// Drops every entry after frame.
+    void keepUpTo(int frame);
     const std::map<std::string, std::vector<TrackEntry>>& objects() const { return mObjects; }
     /// The object's pose at frame. Throws FileError (naming the file it was
     /// read from) when the track holds no such entry.

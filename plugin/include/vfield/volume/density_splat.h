@@ -26,6 +26,7 @@
 
 #include <vfield/core/fields.h>
 #include <vfield/sim/particles.h>
+#include <vfield/volume/particle_grid.h>
 
 #include <openvdb/openvdb.h>
 
@@ -71,6 +72,14 @@ struct VolumeDetail {
     }
 };
 
+/// How a grid of density.####.vdb is stored.
+enum class GridPrecision {
+    Half, ///< 16-bit floats (OpenVDB's saveFloatAsHalf): 1 part in 2048, half the bytes
+    Float ///< 32-bit floats
+};
+inline constexpr EnumName<GridPrecision> kGridPrecisionNames[] = {{GridPrecision::Half, "half"}, {GridPrecision::Float, "float"}};
+constexpr const auto& enumNames(GridPrecision) { return kGridPrecisionNames; }
+
 struct VolumeOptions {
     static constexpr double kMaxKernelVoxels = 32.0; ///< the kernel's radius spans at most this many voxels
 
@@ -79,6 +88,13 @@ struct VolumeOptions {
                                ///< radius; at least one voxel
     double densityPerParticle = 1.0; ///< density integral of one particle (0..1e12; extinction is density x sigma)
     VolumeDetail detail;
+    /// Voxels below this fraction of one lone particle's peak density are
+    /// left out (0..1): the kernels' faint fringe, whose optical depth is at
+    /// most extinction x cutoff x peak per unit; 0 keeps every voxel.
+    double cutoff = 0.1;
+    GridPrecision densityPrecision = GridPrecision::Half;             ///< of density.####.vdb's `density`
+    GridPrecision velocityPrecision = GridPrecision::Half;            ///< of density.####.vdb's `vel`
+    ParticlePrecision particlePrecision = ParticlePrecision::Compact; ///< of particles.####.vdb
 
     /// Throws OptionError naming the first option out of range, or a kernel
     /// spanning more than kMaxKernelVoxels voxels.
@@ -106,6 +122,22 @@ struct VolumeOptions {
                   .range(0, 1e12)
                   .doc("what one particle adds to the density's integral (extinction is density x sigma)"));
         visit(field("detail", self.detail).doc("noise detail finer than the particles, moving with the cloud"));
+        visit(field("cutoff", self.cutoff)
+                  .range(0, 1)
+                  .doc("voxels below this fraction of one lone particle's peak density are left out of the grid: the "
+                       "kernels' faint fringe (two fifths of the main job's voxels, each less dense than a tenth of a lone "
+                       "particle's centre); those on the faces of the grid's active box stay, so its bounds do not "
+                       "move; 0 keeps every voxel"));
+        visit(field("densityPrecision", self.densityPrecision)
+                  .doc("how density.####.vdb stores `density`: half, 16-bit floats (1 part in 2048, half the bytes); "
+                       "float, 32-bit"));
+        visit(field("velocityPrecision", self.velocityPrecision)
+                  .doc("how density.####.vdb stores `vel` (defined where the density is): half or float, as "
+                       "densityPrecision"));
+        visit(field("particlePrecision", self.particlePrecision)
+                  .doc("how particles.####.vdb stores its attributes: compact, OpenVDB's point codecs (P in 16 bits "
+                       "within its voxel, v, rest and rest2 as 16-bit floats, pscale once per leaf where shared); "
+                       "full, 32-bit floats"));
     }
 };
 
@@ -114,7 +146,8 @@ struct DensityGrids {
     openvdb::Vec3SGrid::Ptr velocity;
 };
 
-/// Splats with options.resolved(mean radius of the particles); particles in
+/// Splats with options.resolved(mean radius of the particles), the grids set
+/// to be written at options' precisions; particles in
 /// spatial order (ParticleSet::sortSpatially) splat about ten times faster
 /// than in random order. Throws
 /// OptionError if the voxel size would make an absurd kernel. particles.rest

@@ -6,14 +6,27 @@
 /// and pscale (radius, world units); with dual rest also rest2, and the
 /// grid's float metadata rest2Weight (ParticleSet::rest2Weight).
 
+#include <vfield/core/fields.h>
 #include <vfield/sim/particles.h>
 
 #include <openvdb/openvdb.h>
 
 namespace vfield {
 
+/// How the particles' attributes are stored, the way OpenVDB's point codecs do.
+enum class ParticlePrecision {
+    /// P in 16 bits within its voxel (FixedPointCodec: a 65536th of a voxel),
+    /// v, rest and rest2 as 16-bit floats (TruncateCodec: 1 part in 2048),
+    /// pscale one value per leaf where its points share it; id as is.
+    Compact,
+    Full ///< every attribute as 32-bit floats
+};
+inline constexpr EnumName<ParticlePrecision> kParticlePrecisionNames[] = {{ParticlePrecision::Compact, "compact"},
+                                                                          {ParticlePrecision::Full, "full"}};
+constexpr const auto& enumNames(ParticlePrecision) { return kParticlePrecisionNames; }
+
 /// The grid's voxel size is chosen for about 8 points per voxel. Returned as
 /// the base type so that callers need not include OpenVDB's points headers.
-openvdb::GridBase::Ptr makeParticleGrid(const ParticleSet& particles);
+openvdb::GridBase::Ptr makeParticleGrid(const ParticleSet& particles, ParticlePrecision precision = ParticlePrecision::Full);
 
 } // namespace vfield
