@@ -257,3 +257,31 @@ TEST_CASE("sim folder: frames are stamped with their simulation and written at t
     CHECK(bytes(small.densityFile(1)) < 0.7 * bytes(large.densityFile(1)));
     CHECK(bytes(small.particlesFile(1)) < 0.6 * bytes(large.particlesFile(1)));
 }
+
+TEST_CASE("sim folder: stats.json says where each frame's time went, and the run sums it", "[sim]")
+{
+    const Scene scene = test::showcaseAtTestResolution("cloud_over_terrain.json", 4000, 3);
+    const std::string dir = test::scratchDir("stage-seconds");
+    const SimulateSummary summary = simulateScene(scene, dir);
+    const StatsFile stats = SimFolder(dir).readStats();
+    REQUIRE(stats.frames.size() == 3);
+    StageSeconds sum;
+    for (const FrameRecord& r : stats.frames) {
+        const StageSeconds& s = r.stages;
+        INFO("frame " << r.frame << ": advection " << s.advection << ", clearance " << s.clearance << ", splat " << s.splat
+                      << ", detail " << s.detail << ", write " << s.write << " of " << r.seconds);
+        CHECK(s.advection >= 0.0);
+        CHECK(s.clearance > 0.0);
+        CHECK(s.splat > 0.0);
+        CHECK(s.detail > 0.0); // the showcase's density has noise detail
+        CHECK(s.write > 0.0);
+        // The stages are parts of the frame's time: they add up to it.
+        const double parts = s.advection + s.clearance + s.splat + s.detail + s.write;
+        CHECK(parts <= r.seconds * 1.0001 + 1e-6);
+        CHECK(parts >= 0.8 * r.seconds);
+        sum += s;
+    }
+    CHECK(summary.stages.splat == Approx(sum.splat));
+    CHECK(summary.stages.write == Approx(sum.write));
+    CHECK(summary.stages.advection == Approx(sum.advection).margin(1e-9));
+}

@@ -1,6 +1,7 @@
 #include <vfield/scene/simulation_run.h>
 
 #include <vfield/core/error.h>
+#include <vfield/core/stopwatch.h>
 #include <vfield/core/vdb_file.h>
 #include <vfield/scene/host_scene.h>
 #include <vfield/scene/inputs_hash.h>
@@ -10,7 +11,6 @@
 
 #include <tbb/parallel_for.h>
 
-#include <chrono>
 #include <filesystem>
 #include <optional>
 
@@ -140,7 +140,7 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
                           uint64_t(object.field->memoryBytes()), object.field->finestCellSize() * object.spec->transform.scale});
     }
 
-    const auto start = std::chrono::steady_clock::now();
+    const Stopwatch runWatch;
     const bool resumed = summary.resumedAfterFrame >= 0;
     const int total = writeLast - (resumed ? simulator.frame() : setup.firstFrame - 1);
     int done = 0;
@@ -150,17 +150,21 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
     // theirs, not only at frames: two aircraft can pass through each other
     // between frames. A frame records each pair's closest approach.
     std::vector<PairClearance> closestInFrame;
+    double pairSeconds = 0.0;
     const auto measurePairs = [&] {
+        const Stopwatch watch;
         for (const PairClearance& pair : clearance.measureObjects()) keepClosest(closestInFrame, pair);
+        pairSeconds += watch.seconds();
     };
     for (bool first = !resumed; simulator.frame() < writeLast || first; first = false) {
         closestInFrame.clear();
-        const auto frameStart = std::chrono::steady_clock::now();
+        pairSeconds = 0.0;
+        Stopwatch frameWatch, stageWatch;
         if (first) measurePairs(); // the initial poses; every later frame's last substep ends at it
         else simulator.advanceFrame(measurePairs);
         const int frame = simulator.frame();
-
         FrameRecord record;
+        record.stages.advection = stageWatch.lap() - pairSeconds;
         record.frame = frame;
         record.alive = simulator.particles().size();
         record.removed = simulator.removedTotal();
@@ -171,18 +175,26 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
         record.endedInside = simulator.lastStep().endedInside;
         record.maxRollChange = simulator.lastStep().maxRollChange;
         record.particleClearance = clearance.measureParticles();
+        record.stages.clearance = stageWatch.lap() + pairSeconds;
         record.objectPairs = closestInFrame;
-        record.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - frameStart).count();
         for (const Vec3f& p : simulator.particles().position) {
             record.centroid += Vec3d(p);
             record.bounds.expand(Vec3d(p));
         }
         if (record.alive > 0) record.centroid /= double(record.alive);
         for (const std::size_t i : dynamic) run.tracks.add(simulator.objects()[i].spec->name, frame, simulator.objectStates()[i]);
-        if (frame >= writeFirst)
-            record.files =
-                folder.writeFrame(frame, splatParticles(simulator.particles(), scene.volume),
-                                  makeParticleGrid(simulator.particles(), scene.volume.particlePrecision), run.inputsHash);
+        if (frame >= writeFirst) {
+            SplatSeconds splat;
+            const DensityGrids volume = splatParticles(simulator.particles(), scene.volume, &splat);
+            stageWatch.lap();
+            record.stages.splat = splat.splat;
+            record.stages.detail = splat.detail;
+            record.files = folder.writeFrame(
+                frame, volume, makeParticleGrid(simulator.particles(), scene.volume.particlePrecision), run.inputsHash);
+            record.stages.write = stageWatch.lap();
+        }
+        record.seconds = frameWatch.seconds();
+        summary.stages += record.stages;
         run.records.push_back(record);
         folder.writeStats({run.inputsHash, setup.fps, fields, run.records});
         folder.writeTracks(run.tracks, setup.fps);
@@ -196,7 +208,7 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
             progress.done = done;
             progress.total = total;
             progress.alive = record.alive;
-            progress.elapsedSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            progress.elapsedSeconds = runWatch.seconds();
             options.progress(progress);
         }
     }

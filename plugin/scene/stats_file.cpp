@@ -64,6 +64,12 @@ nlohmann::json toJson(const FrameRecord& r)
             {"endedInside", r.endedInside},
             {"maxRollChangeDegrees", r.maxRollChange},
             {"seconds", r.seconds},
+            {"stageSeconds",
+             {{"advection", r.stages.advection},
+              {"clearance", r.stages.clearance},
+              {"splat", r.stages.splat},
+              {"detail", r.stages.detail},
+              {"write", r.stages.write}}},
             {"clearance", {{"particles", toJson(r.particleClearance)}, {"objects", pairs}}},
             {"files", r.files ? nlohmann::json{{"density", toJson(r.files->density)}, {"particles", toJson(r.files->particles)}}
                               : nlohmann::json(nullptr)}};
@@ -82,6 +88,9 @@ FrameRecord recordFromJson(const nlohmann::json& j)
     r.endedInside = j.value("endedInside", uint64_t(0));
     r.maxRollChange = j.at("maxRollChangeDegrees").get<double>();
     r.seconds = j.value("seconds", 0.0);
+    if (const auto stages = j.find("stageSeconds"); stages != j.end())
+        r.stages = {stages->value("advection", 0.0), stages->value("clearance", 0.0), stages->value("splat", 0.0),
+                    stages->value("detail", 0.0), stages->value("write", 0.0)};
     if (!j.at("centroid").is_null()) {
         r.centroid = vecFromJson(j.at("centroid"));
         r.bounds = BBoxd(vecFromJson(j.at("boundsMin")), vecFromJson(j.at("boundsMax")));

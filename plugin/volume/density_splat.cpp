@@ -2,6 +2,7 @@
 
 #include <vfield/core/field_visitors.h>
 #include <vfield/core/noise.h>
+#include <vfield/core/stopwatch.h>
 #include <vfield/core/trilinear_sampler.h>
 
 #include <openvdb/tools/Filter.h>
@@ -297,8 +298,9 @@ void keepWhereActive(openvdb::Vec3SGrid& velocity, const openvdb::FloatGrid& den
 
 } // namespace
 
-DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& options)
+DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& options, SplatSeconds* seconds)
 {
+    const Stopwatch watch;
     double meanRadius = 0.0;
     for (const float r : particles.radius) meanRadius += r;
     meanRadius = particles.size() > 0 ? meanRadius / double(particles.size()) : 1.0;
@@ -440,6 +442,7 @@ DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& o
     }
     // The peak density of one lone particle: the scale of the edges and of the cutoff.
     const double lonePeak = perWeight * std::pow(centreWeight(passes), 3);
+    const double splatDone = watch.seconds();
     if (!channels.empty()) {
         const double softness = resolved.detail.edgeSoftness > 0.0 ? resolved.detail.edgeSoftness : lonePeak;
         grids.density = detailedDensity(*grids.density, restMeans, channels, resolved.detail, softness);
@@ -454,6 +457,7 @@ DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& o
     grids.velocity->setVectorType(openvdb::VEC_CONTRAVARIANT_RELATIVE);
     grids.density->setSaveFloatAsHalf(options.densityPrecision == GridPrecision::Half);
     grids.velocity->setSaveFloatAsHalf(options.velocityPrecision == GridPrecision::Half);
+    if (seconds) *seconds = {splatDone, watch.seconds() - splatDone};
     return grids;
 }
 

@@ -85,6 +85,12 @@ Runner registerSimulate(CLI::App& app, const GlobalOptions& global)
                     " particle substeps ended on a dynamic object's surface (contacts: its field alone did not turn them away)");
         if (summary.endedInside > 0)
             log(global, "warning: " + std::to_string(summary.endedInside) + " particle substeps ended inside a dynamic object");
+        const StageSeconds& s = summary.stages;
+        char stages[200];
+        std::snprintf(stages, sizeof stages,
+                      "seconds: advection %.1f, clearance %.1f, splat %.1f, detail %.1f, write %.1f (stats.json: per frame)",
+                      s.advection, s.clearance, s.splat, s.detail, s.write);
+        log(global, stages);
     };
 }
 

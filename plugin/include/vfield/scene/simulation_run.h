@@ -72,6 +72,7 @@ struct SimulateSummary {
     uint64_t overlappingPairFrames = 0; ///< (pair, frame)s whose meshes overlapped
     uint64_t contacts = 0;              ///< particle contacts with dynamic objects, all frames (StepStats)
     uint64_t endedInside = 0;           ///< particle substeps that ended inside a dynamic object, all frames
+    StageSeconds stages;                ///< the frames simulated by this run, summed
 };
 
 SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, const SimulateOptions& options = {});

@@ -36,6 +36,24 @@ struct FrameFiles {
     FileFingerprint density, particles;
 };
 
+/// Where a frame's wall-clock time went, seconds.
+struct StageSeconds {
+    double advection = 0.0; ///< moving particles and objects through the fields (contacts included)
+    double clearance = 0.0; ///< measuring every particle and object pair against the meshes
+    double splat = 0.0;     ///< the particles' density and velocity grids
+    double detail = 0.0;    ///< the density's noise detail and cutoff
+    double write = 0.0;     ///< the particle grid, the frame's files and their fingerprints
+    StageSeconds& operator+=(const StageSeconds& o)
+    {
+        advection += o.advection;
+        clearance += o.clearance;
+        splat += o.splat;
+        detail += o.detail;
+        write += o.write;
+        return *this;
+    }
+};
+
 /// One frame's line of stats.json.
 struct FrameRecord {
     int frame = 0;
@@ -43,7 +61,8 @@ struct FrameRecord {
     uint64_t endedInside = 0; ///< particle substeps that ended inside a dynamic object (StepStats)
     uint32_t maxSubsteps = 0, dynamicSubsteps = 0;
     double maxRollChange = 0.0;             ///< degrees, the most any dynamic object rolled over the frame
-    double seconds = 0.0;                   ///< wall clock of simulating and measuring the frame
+    double seconds = 0.0;                   ///< wall clock of simulating, measuring and writing the frame
+    StageSeconds stages;                    ///< where that time went
     ClearanceStats particleClearance;       ///< the particles against every object
     std::vector<PairClearance> objectPairs; ///< every dynamic object against every other: closest over the frame's substeps
     Vec3d centroid{0.0};                    ///< mean particle position, world units

@@ -154,6 +154,11 @@ struct DensityGrids {
 /// may be empty: positions then stand in for it; rest2 is used when it has a
 /// position for every particle. With detail, `density` is
 /// the detailed grid (detail.voxelSize) and `vel` stays at the splat's voxel size.
-DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& options);
+/// Where a splat's time went (wall clock, seconds).
+struct SplatSeconds {
+    double splat = 0.0;  ///< the deposit, the blur and the grids' values
+    double detail = 0.0; ///< the noise detail, the cutoff and the velocity's trim
+};
+DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& options, SplatSeconds* seconds = nullptr);
 
 } // namespace vfield

@@ -1,0 +1,27 @@
+#pragma once
+/// @file stopwatch.h
+/// Wall-clock seconds since a point, for the timings a run reports.
+
+#include <chrono>
+
+namespace vfield {
+
+class Stopwatch {
+public:
+    /// Seconds since construction or the last restart.
+    double seconds() const { return std::chrono::duration<double>(Clock::now() - mStart).count(); }
+    /// Seconds since construction or the last restart, and starts again.
+    double lap()
+    {
+        const Clock::time_point now = Clock::now();
+        const double elapsed = std::chrono::duration<double>(now - mStart).count();
+        mStart = now;
+        return elapsed;
+    }
+
+private:
+    using Clock = std::chrono::steady_clock;
+    Clock::time_point mStart = Clock::now();
+};
+
+} // namespace vfield
