@@ -2,12 +2,14 @@
 #include <vfield/volume/particle_grid.h>
 
 #include <openvdb/points/PointCount.h>
+#include <openvdb/points/PointDataGrid.h>
 #include <openvdb/tools/Count.h>
 #include <openvdb/tools/Interpolation.h>
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <map>
 #include <random>
 
 using namespace vfield;
@@ -281,4 +283,45 @@ TEST_CASE("density splat: the cutoff leaves out the kernels' fringe below its sh
     // The velocity is where the density is (it is on the same voxels here).
     for (auto it = cutGrids.velocity->cbeginValueOn(); it; ++it) CHECK(kept.isValueOn(it.getCoord()));
     CHECK(cutGrids.velocity->activeVoxelCount() == cut->activeVoxelCount());
+}
+
+TEST_CASE("particle grid: compact precision keeps positions within a 65536th of a voxel, velocities and rest as 16-bit "
+          "floats and pscale within a 255th of a unit",
+          "[volume]")
+{
+    ParticleSet particles = randomParticles(5000, 3);
+    std::mt19937 random(4);
+    for (std::size_t i = 0; i < particles.size(); ++i) {
+        particles.radius[i] = std::uniform_real_distribution<float>(0.05f, 0.95f)(random);
+        particles.velocity[i] = Vec3f(std::normal_distribution<float>(0.0f, 5.0f)(random),
+                                      std::normal_distribution<float>(0.0f, 5.0f)(random), 0.001f * float(i));
+    }
+    const auto grid =
+        openvdb::gridPtrCast<openvdb::points::PointDataGrid>(makeParticleGrid(particles, ParticlePrecision::Compact));
+    REQUIRE(grid);
+    const double voxel = grid->voxelSize()[0];
+    std::map<int32_t, std::size_t> byId;
+    for (std::size_t i = 0; i < particles.size(); ++i) byId[particles.id[i]] = i;
+    std::size_t seen = 0;
+    for (auto leaf = grid->tree().cbeginLeaf(); leaf; ++leaf) {
+        CHECK(leaf->constAttributeArray("P").codecType() == "fxpt16");
+        CHECK(leaf->constAttributeArray("pscale").codecType() == "ufxpt8");
+        const openvdb::points::AttributeHandle<openvdb::Vec3f> position(leaf->constAttributeArray("P")),
+            velocity(leaf->constAttributeArray("v")), rest(leaf->constAttributeArray("rest"));
+        const openvdb::points::AttributeHandle<int32_t> id(leaf->constAttributeArray("id"));
+        const openvdb::points::AttributeHandle<float> radius(leaf->constAttributeArray("pscale"));
+        for (auto index = leaf->beginIndexOn(); index; ++index, ++seen) {
+            const std::size_t i = byId.at(id.get(*index));
+            const Vec3d p = grid->indexToWorld(index.getCoord().asVec3d() + position.get(*index));
+            CHECK((p - Vec3d(particles.position[i])).length() <= voxel / 65536.0 * 2.0);
+            for (int axis = 0; axis < 3; ++axis) {
+                CHECK(std::abs(velocity.get(*index)[axis] - particles.velocity[i][axis]) <=
+                      std::abs(particles.velocity[i][axis]) / 2048.0f + 1e-7f);
+                CHECK(std::abs(rest.get(*index)[axis] - particles.rest[i][axis]) <=
+                      std::abs(particles.rest[i][axis]) / 2048.0f + 1e-7f);
+            }
+            CHECK(std::abs(radius.get(*index) - particles.radius[i]) <= 1.0f / 255.0f + 1e-6f); // truncated, not rounded
+        }
+    }
+    CHECK(seen == particles.size());
 }

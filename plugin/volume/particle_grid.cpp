@@ -4,11 +4,13 @@
 #include <openvdb/points/PointConversion.h>
 #include <openvdb/points/PointCount.h>
 
+#include <algorithm>
+
 namespace vfield {
 
 namespace {
 
-template<typename PositionCodec, typename VectorCodec>
+template<typename PositionCodec, typename VectorCodec, typename ScaleCodec>
 openvdb::points::PointDataGrid::Ptr particleGrid(const ParticleSet& particles)
 {
     using namespace openvdb;
@@ -38,7 +40,7 @@ openvdb::points::PointDataGrid::Ptr particleGrid(const ParticleSet& particles)
     const std::vector<int32_t> ids(particles.id.begin(), particles.id.end());
     points::appendAttribute<int32_t>(tree, "id");
     points::populateAttribute(tree, index->tree(), "id", points::PointAttributeVector<int32_t>(ids));
-    points::appendAttribute<float, VectorCodec>(tree, "pscale");
+    points::appendAttribute<float, ScaleCodec>(tree, "pscale");
     points::populateAttribute(tree, index->tree(), "pscale", points::PointAttributeVector<float>(particles.radius));
     return grid;
 }
@@ -48,11 +50,16 @@ openvdb::points::PointDataGrid::Ptr particleGrid(const ParticleSet& particles)
 openvdb::GridBase::Ptr makeParticleGrid(const ParticleSet& particles, ParticlePrecision precision)
 {
     openvdb::initialize(); // registers the point attribute types
-    if (precision == ParticlePrecision::Full)
-        return particleGrid<openvdb::points::NullCodec, openvdb::points::NullCodec>(particles);
-    openvdb::points::PointDataGrid::Ptr grid =
-        particleGrid<openvdb::points::FixedPointCodec<false>, openvdb::points::TruncateCodec>(particles);
-    openvdb::points::compactAttributes(grid->tree()); // a cloud's pscale: one value per leaf
+    using namespace openvdb::points;
+    if (precision == ParticlePrecision::Full) return particleGrid<NullCodec, NullCodec, NullCodec>(particles);
+    // pscale in 8 bits (a 255th of a unit) when every radius fits in [0, 1]
+    // as OpenVDB's unit-range codec needs; else as a 16-bit float.
+    const bool unitRadii =
+        std::all_of(particles.radius.begin(), particles.radius.end(), [](float r) { return r >= 0.0f && r <= 1.0f; });
+    PointDataGrid::Ptr grid =
+        unitRadii ? particleGrid<FixedPointCodec<false>, TruncateCodec, FixedPointCodec<true, UnitRange>>(particles)
+                  : particleGrid<FixedPointCodec<false>, TruncateCodec, TruncateCodec>(particles);
+    compactAttributes(grid->tree()); // a cloud's pscale: one value per leaf
     return grid;
 }
 

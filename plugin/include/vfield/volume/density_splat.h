@@ -136,7 +136,8 @@ struct VolumeOptions {
                        "densityPrecision"));
         visit(field("particlePrecision", self.particlePrecision)
                   .doc("how particles.####.vdb stores its attributes: compact, OpenVDB's point codecs (P in 16 bits "
-                       "within its voxel, v, rest and rest2 as 16-bit floats, pscale once per leaf where shared); "
+                       "within its voxel, v, rest and rest2 as 16-bit floats, pscale in 8 bits for radii up to 1 and once per "
+                       "leaf where shared); "
                        "full, 32-bit floats"));
     }
 };

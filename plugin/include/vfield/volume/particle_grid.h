@@ -17,7 +17,9 @@ namespace vfield {
 enum class ParticlePrecision {
     /// P in 16 bits within its voxel (FixedPointCodec: a 65536th of a voxel),
     /// v, rest and rest2 as 16-bit floats (TruncateCodec: 1 part in 2048),
-    /// pscale one value per leaf where its points share it; id as is.
+    /// pscale in 8 bits (a 255th of a unit) when every radius is at most 1,
+    /// else as a 16-bit float, and one value per leaf where its points share
+    /// it; id as is.
     Compact,
     Full ///< every attribute as 32-bit floats
 };
@@ -25,7 +27,7 @@ inline constexpr EnumName<ParticlePrecision> kParticlePrecisionNames[] = {{Parti
                                                                           {ParticlePrecision::Full, "full"}};
 constexpr const auto& enumNames(ParticlePrecision) { return kParticlePrecisionNames; }
 
-/// The grid's voxel size is chosen for about 8 points per voxel. Returned as
+/// The grid's voxel size is chosen for about 16 points per voxel. Returned as
 /// the base type so that callers need not include OpenVDB's points headers.
 openvdb::GridBase::Ptr makeParticleGrid(const ParticleSet& particles, ParticlePrecision precision = ParticlePrecision::Full);
 
