@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sys/wait.h>
 #include <thread>
 
@@ -641,18 +642,19 @@ TEST_CASE("cli: tracks.json's matrix places the object-space export where --fram
 TEST_CASE("cli: a heightmap with holes or absurd heights is refused at once, naming the pixel", "[cli][scene]")
 {
     const std::string dir = vfield::test::scratchDir("cli-heightmap");
-    const auto heightmap = [&](const std::string& name, float bad) {
+    // Two odd pixels, at (5, 6) and (2, 7), as an elevation model's holes are.
+    const auto heightmap = [&](const std::string& name, float bad, float worse) {
         OIIO::ImageBuf image(OIIO::ImageSpec(8, 8, 1, OIIO::TypeDesc::FLOAT));
         for (int y = 0; y < 8; ++y)
             for (int x = 0; x < 8; ++x) {
-                const float h = x == 5 && y == 6 ? bad : 0.1f * float(x + y);
+                const float h = x == 5 && y == 6 ? bad : x == 2 && y == 7 ? worse : 0.1f * float(x + y);
                 image.setpixel(x, y, &h);
             }
         REQUIRE(image.write(dir + "/" + name));
     };
-    heightmap("holes.exr", std::nanf(""));
-    heightmap("absurd.exr", 1e30f);
-    heightmap("valid.exr", 0.5f);
+    heightmap("holes.exr", std::nanf(""), std::numeric_limits<float>::infinity());
+    heightmap("absurd.exr", 1e30f, -1e30f);
+    heightmap("valid.exr", 0.5f, 0.25f);
     const auto simulate = [&](const std::string& file, const std::string& extra) {
         std::ofstream(dir + "/s.json") << R"({"version": 1, "frames": {"start": 1, "end": 2},
           "objects": [{"name": "dem", "mesh": {"heightmap": {"file": ")" +
