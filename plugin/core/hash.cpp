@@ -1,6 +1,7 @@
 #include <vfield/core/hash.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 
 namespace vfield {
@@ -26,6 +27,13 @@ void ContentHash::mix(uint64_t word)
     z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
     mState = z ^ (z >> 31);
+}
+
+std::string hashText(uint64_t hash)
+{
+    char text[17];
+    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(hash));
+    return text;
 }
 
 } // namespace vfield

@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -33,13 +32,6 @@ namespace {
 constexpr const char* kInputsHashKey = "vfield:inputsHash";
 constexpr const char* kFrameKey = "vfield:frame";
 
-std::string hexText(uint64_t value)
-{
-    char text[17];
-    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(value));
-    return text;
-}
-
 FileFingerprint fingerprint(const std::string& path)
 {
     const std::string bytes = readFileBytes(path);
@@ -56,8 +48,8 @@ std::string provenanceProblem(const std::string& path, const openvdb::MetaMap& m
     const auto stamped = metadata.getMetadata<openvdb::Int32Metadata>(kFrameKey);
     if (!hash || !stamped)
         return path + " says nothing of the simulation that made it (written by another program or an older vfield)";
-    if (hash->value() != hexText(inputsHash))
-        return path + " was made by another simulation (inputs hash " + hash->value() + ", the folder's " + hexText(inputsHash) +
+    if (hash->value() != hashText(inputsHash))
+        return path + " was made by another simulation (inputs hash " + hash->value() + ", the folder's " + hashText(inputsHash) +
                ")";
     if (stamped->value() != frame) return path + " holds frame " + std::to_string(stamped->value());
     return {};
@@ -113,7 +105,7 @@ FrameFiles SimFolder::writeFrame(int frame, const DensityGrids& volume, const op
                                  uint64_t inputsHash) const
 {
     openvdb::MetaMap metadata;
-    metadata.insertMeta(kInputsHashKey, openvdb::StringMetadata(hexText(inputsHash)));
+    metadata.insertMeta(kInputsHashKey, openvdb::StringMetadata(hashText(inputsHash)));
     metadata.insertMeta(kFrameKey, openvdb::Int32Metadata(frame));
     writeVdb(densityFile(frame), {volume.density, volume.velocity}, metadata);
     writeVdb(particlesFile(frame), {particles}, metadata);

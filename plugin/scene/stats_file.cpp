@@ -1,10 +1,9 @@
 #include <vfield/scene/stats_file.h>
 
 #include <vfield/core/error.h>
+#include <vfield/core/hash.h>
 
 #include <nlohmann/json.hpp>
-
-#include <cstdio>
 
 namespace vfield {
 
@@ -33,16 +32,9 @@ ClearanceStats clearanceFromJson(const nlohmann::json& j)
 }
 
 /// 64-bit hashes as 16 hexadecimal digits: JSON numbers lose their low bits in many readers.
-std::string hexText(uint64_t value)
-{
-    char text[17];
-    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(value));
-    return text;
-}
-
 uint64_t hexValue(const nlohmann::json& j) { return std::stoull(j.get<std::string>(), nullptr, 16); }
 
-nlohmann::json toJson(const FileFingerprint& f) { return {{"bytes", f.bytes}, {"hash", hexText(f.hash)}}; }
+nlohmann::json toJson(const FileFingerprint& f) { return {{"bytes", f.bytes}, {"hash", hashText(f.hash)}}; }
 FileFingerprint fingerprintFromJson(const nlohmann::json& j) { return {j.at("bytes").get<uint64_t>(), hexValue(j.at("hash"))}; }
 
 nlohmann::json toJson(const FrameRecord& r)
@@ -129,7 +121,7 @@ std::string statsJsonText(const StatsFile& stats)
                           {"buildSeconds", f.buildSeconds},
                           {"memoryBytes", f.memoryBytes},
                           {"finestCell", f.finestCell}});
-    const nlohmann::json json = {{"inputsHash", hexText(stats.inputsHash)},
+    const nlohmann::json json = {{"inputsHash", hashText(stats.inputsHash)},
                                  {"fps", stats.fps},
                                  {"fields", fields},
                                  {"frames", recordsToJson(stats.frames)}};

@@ -30,4 +30,7 @@ private:
     uint64_t mState = 0x243f6a8885a308d3ull;
 };
 
+/// A hash as 16 hexadecimal digits, as files record it.
+std::string hashText(uint64_t hash);
+
 } // namespace vfield
