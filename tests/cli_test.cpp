@@ -141,8 +141,8 @@ TEST_CASE("cli: every subcommand has help", "[cli]")
     std::istringstream lines(top.out.substr(top.out.find("Subcommands:")));
     for (std::string line; std::getline(lines, line);)
         if (line.rfind("  ", 0) == 0) commands.push_back(line.substr(2, line.find(' ', 2) - 2));
-    CHECK(commands.size() == 15);
-    for (const char* name : {"compare", "metrics", "farm", "export-scene", "help", "verify"})
+    CHECK(commands.size() == 16);
+    for (const char* name : {"compare", "metrics", "farm", "export-scene", "help", "verify", "silhouette"})
         CHECK(std::find(commands.begin(), commands.end(), name) != commands.end());
     for (const std::string& command : commands) {
         const Run help = vfieldCli(command + " --help", dir);
@@ -671,4 +671,39 @@ TEST_CASE("cli: a heightmap with holes or absurd heights is refused at once, nam
     CHECK(absurd.err.find("absurd.exr: pixel (5, 6) is 1e+30, a height of 6e+31 world units") != std::string::npos);
     CHECK(simulate("holes.exr", R"(, "fillNoData": true)").exitCode == 0);
     CHECK(simulate("valid.exr", "").exitCode == 0);
+}
+
+TEST_CASE("cli: silhouette measures the outline of what a frame brightens against its clear twin", "[cli]")
+{
+    const std::string dir = vfield::test::scratchDir("cli-silhouette");
+    // A dark 256x256 ground, and the same with a white disk on it and a dark
+    // shadow beside it: the shadow darkens, so only the disk is cloud.
+    const auto write = [&](const std::string& name, bool cloud, int width) {
+        OIIO::ImageBuf image(OIIO::ImageSpec(width, 256, 3, OIIO::TypeDesc::UINT8));
+        const float ground[3] = {0.3f, 0.4f, 0.2f}, white[3] = {0.9f, 0.9f, 0.9f}, shadow[3] = {0.1f, 0.1f, 0.1f};
+        OIIO::ImageBufAlgo::fill(image, ground);
+        if (cloud)
+            for (int y = 0; y < 256; ++y)
+                for (int x = 0; x < width; ++x) {
+                    if (std::hypot(x - 100.0, y - 128.0) < 60.0) image.setpixel(x, y, white, 3);
+                    else if (x > 180 && x < 250 && y > 20 && y < 60) image.setpixel(x, y, shadow, 3);
+                }
+        REQUIRE(image.write(dir + "/" + name));
+    };
+    write("clear.png", false, 256);
+    write("cloud.png", true, 256);
+    write("wide.png", false, 300);
+
+    const Run disk = vfieldCli("silhouette " + dir + "/cloud.png " + dir + "/clear.png", dir);
+    REQUIRE(disk.exitCode == 0);
+    INFO(disk.out);
+    double dimension = 0.0, percent = 0.0;
+    REQUIRE(std::sscanf(disk.out.c_str(), "dimension %lf, cloud %lf%%", &dimension, &percent) == 2);
+    CHECK(dimension == Approx(1.0).margin(0.06));
+    CHECK(percent == Approx(100.0 * M_PI * 60 * 60 / (256 * 256)).epsilon(0.02));
+
+    const Run mismatched = vfieldCli("silhouette " + dir + "/cloud.png " + dir + "/wide.png", dir);
+    CHECK(mismatched.exitCode != 0);
+    CHECK(mismatched.err.find("cloud.png is 256x256 but " + dir + "/wide.png is 300x256") != std::string::npos);
+    CHECK(lineCount(mismatched.err) == 1);
 }

@@ -9,7 +9,9 @@
 
 #include <tbb/global_control.h>
 
+#include <array>
 #include <cmath>
+#include <map>
 #include <vector>
 
 using namespace vfield;
@@ -206,4 +208,55 @@ TEST_CASE("repulsion field: options name what is wrong", "[repulsion]")
     options.method = RepulsionMethod::Distance;
     options.voxelSize = 0.0;
     CHECK_THROWS_WITH(options.validate(), Catch::Contains("voxelSize"));
+}
+
+TEST_CASE("repulsion field: dual sampling is linear between adjacent leaf centres, nearest steps at their face", "[repulsion]")
+{
+    const TriangleMesh sphere = unitSphere();
+    const RepulsionOptions options = sphereField(RepulsionMethod::Octree);
+    const auto field = RepulsionField::build(sphere, options);
+    const OctreeField octree = OctreeField::build(sphere, options.field);
+    REQUIRE(octree.depth() == field->depth());
+
+    // Leaves by their min corner in finest cells, to find each one's neighbour.
+    const std::vector<FieldLeaf> leaves = octree.leaves();
+    std::map<std::array<uint32_t, 4>, const FieldLeaf*> byCorner;
+    for (const FieldLeaf& leaf : leaves) byCorner[{leaf.origin[0], leaf.origin[1], leaf.origin[2], leaf.width}] = &leaf;
+
+    RepulsionField::Accessor accessor = field->accessor();
+    int pairs = 0, differing = 0, steps = 0;
+    double worstError = 0.0;
+    for (const FieldLeaf& a : leaves) {
+        // Away from the surface: neither leaf holds triangles, nor do the finer
+        // leaves a surface's boost comes from.
+        if (a.isSurface || a.level < 2 || a.level == octree.depth()) continue;
+        for (int axis = 0; axis < 3; ++axis) {
+            std::array<uint32_t, 4> key{a.origin[0], a.origin[1], a.origin[2], a.width};
+            key[axis] += a.width;
+            const auto found = byCorner.find(key);
+            if (found == byCorner.end()) continue;
+            const FieldLeaf& b = *found->second;
+            if (b.isSurface) continue;
+            ++pairs;
+            const Vec3d fa(a.force), fb(b.force);
+            const Vec3d ca = a.bounds.getCenter(), cb = b.bounds.getCenter();
+            for (int i = 0; i <= 16; ++i) {
+                const double s = i / 16.0;
+                const Vec3d f = field->sample(accessor, ca + (cb - ca) * s, FieldSampling::Dual).force;
+                worstError = std::max(worstError, (f - (fa + (fb - fa) * s)).length() / std::max(fa.length(), fb.length()));
+            }
+            // The paper's field: the whole difference, at the shared face.
+            const Vec3d face = (ca + cb) * 0.5, across = (cb - ca) * 1e-3;
+            const Vec3d before = field->sample(accessor, face - across, FieldSampling::Nearest).force;
+            const Vec3d after = field->sample(accessor, face + across, FieldSampling::Nearest).force;
+            if ((fb - fa).length() < 1e-6) continue;
+            ++differing;
+            if ((before - fa).length() < 1e-6 && (after - fb).length() < 1e-6) ++steps;
+        }
+    }
+    INFO(pairs << " pairs of adjacent leaves of one level (" << differing
+               << " pushing differently), worst relative departure from linear " << worstError);
+    CHECK(differing > 100);
+    CHECK(worstError < 1e-5);
+    CHECK(steps == differing);
 }

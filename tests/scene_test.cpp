@@ -27,7 +27,7 @@ TEST_CASE("scene: defaults fill everything but the objects", "[scene]")
     CHECK(scene.simulation.objects.size() == 1);
     CHECK(scene.simulation.objects[0].repulsion.has_value());
     CHECK(scene.render.image.width == 640);
-    CHECK(scene.simulation.options.sampling == SimulationOptions::Sampling::Nearest);
+    CHECK(scene.simulation.options.sampling == SimulationOptions::Sampling::Dual);
 }
 
 TEST_CASE("scene: the shipped scenes parse", "[scene]")

@@ -374,3 +374,50 @@ TEST_CASE("simulator: dual rest resets each rest where its weight is zero, half 
     CHECK(restored.particles().rest2 == particles.rest2);
     CHECK(restored.particles().rest2Weight == particles.rest2Weight);
 }
+
+TEST_CASE("simulator: a cloud carried down a slope loses density with every frame of descent, by condensation", "[sim][volume]")
+{
+    // A slab of rock tilted 30 degrees, the cloud resting on its upper end
+    // and blown down it: its air sinks from where it was emitted.
+    const std::string text = R"({"version": 1, "frames": {"start": 1, "end": 60, "fps": 24}, "seed": 1,
+      "objects": [{"name": "slope", "mesh": {"box": {"min": [-40, -2, -10], "max": [40, 0, 10]}, "tessellate": 1},
+                   "transform": {"rotateDegrees": [0, 0, -30]}}],
+      "clouds": [{"count": 4000, "shape": "ellipsoid", "center": [-25, 18, 0], "radii": [4, 2, 4],
+                  "particleRadius": 0.5, "drag": 1}],
+      "fields": [{"name": "gravity", "acceleration": [0, -9.81, 0]}, {"name": "downslope", "acceleration": [8.5, -4.9, 0]}],
+      "volume": {"condensation": {"depth": 10}}})";
+    const Scene scene = parseScene(text, "slope.json");
+    Simulator sim(scene.simulation);
+    const ClearanceProbe probe(sim);
+    const auto integral = [&] {
+        const DensityGrids grids = splatParticles(sim.particles(), scene.volume);
+        double sum = 0.0;
+        for (auto it = grids.density->cbeginValueOn(); it; ++it) sum += *it;
+        return sum * std::pow(grids.density->voxelSize()[0], 3);
+    };
+    const auto meanHeight = [&] {
+        double y = 0.0;
+        for (const Vec3f& p : sim.particles().position) y += p.y();
+        return y / double(sim.particles().size());
+    };
+    const double full = 4000 * scene.volume.densityPerParticle;
+    double previous = integral(), previousHeight = meanHeight();
+    CHECK(previous == Approx(full).epsilon(0.02)); // where it was emitted, at its peak: all of it
+    int descending = 0;
+    for (int frame = 2; frame <= 60; ++frame) {
+        sim.advanceFrame();
+        const double now = integral(), height = meanHeight();
+        INFO("frame " << frame << ": mean height " << height << ", density integral " << now << " of " << full);
+        CHECK(probe.measureParticles().penetrations == 0);
+        if (height < previousHeight) {
+            ++descending;
+            CHECK(now <= previous + 1e-4 * full); // to within the float sums' rounding and the cutoff's fringe
+        }
+        previous = now;
+        previousHeight = height;
+    }
+    CHECK(descending > 50);
+    CHECK(previousHeight < 18.0 - 10.0); // depth below where it began: gone
+    CHECK(previous < 0.05 * full);
+    CHECK(sim.particles().size() == 4000); // the particles are all there: only their density went
+}

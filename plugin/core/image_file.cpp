@@ -35,6 +35,13 @@ void writeImage(const OIIO::ImageBuf& image, const std::string& path)
     });
 }
 
+OIIO::ImageBuf readImageAsFloat(const std::string& path)
+{
+    OIIO::ImageBuf image(path);
+    if (!image.read(0, 0, true, OIIO::TypeDesc::FLOAT)) throw FileError(path, "cannot read the image: " + image.geterror());
+    return image;
+}
+
 ImagePlane readImagePlane(const std::string& path)
 {
     auto input = OIIO::ImageInput::open(path);

@@ -26,6 +26,51 @@ void RepulsionOptions::validate() const
 
 double RepulsionField::cellSize(int level) const { return mSide * std::ldexp(1.0, 1 - level); }
 
+RepulsionField::Sample RepulsionField::sample(Accessor& accessor, const Vec3d& local, FieldSampling sampling) const
+{
+    const openvdb::Vec3d index = mForce->transform().worldToIndex(local);
+    const openvdb::Coord voxel = openvdb::Coord::round(index);
+    const int level = accessor.level.getValue(voxel);
+    openvdb::Vec3s f;
+    if (sampling == FieldSampling::Nearest) return {Vec3d(accessor.force.getValue(voxel)), level};
+    if (sampling == FieldSampling::Trilinear || mMethod != RepulsionMethod::Octree || level < 1 || level >= mDepth) {
+        // The finest leaves' centres are the voxels' own: there the dual grid is the voxel grid.
+        openvdb::tools::BoxSampler::sample(accessor.force, index, f);
+        return {Vec3d(f), level};
+    }
+    // Leaves of this level are `span` voxels wide and centred at k span + (span - 1) / 2;
+    // each lattice point reads the voxel at k span + span / 2, inside leaf k
+    // (or inside whichever finer leaf covers that spot of a neighbour). Beyond
+    // the outermost leaf centres the field stays at their value. A finer
+    // leaf read as a neighbour pushes no harder than the point's own leaf:
+    // otherwise a surface leaf's boost would reach a coarse leaf's width out.
+    const double strongest = Vec3d(accessor.force.getValue(voxel)).length();
+    const int span = 1 << (mDepth - level), leaves = 1 << (level - 1);
+    openvdb::Coord lo, hi;
+    double weight[3];
+    for (int axis = 0; axis < 3; ++axis) {
+        const double t = (index[axis] - 0.5 * (span - 1)) / span;
+        const double k = std::floor(t);
+        weight[axis] = t - k;
+        lo[axis] = std::clamp(int(k), 0, leaves - 1) * span + span / 2;
+        hi[axis] = std::clamp(int(k) + 1, 0, leaves - 1) * span + span / 2;
+    }
+    Vec3d corners[2][2][2];
+    for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j)
+            for (int k = 0; k < 2; ++k) {
+                Vec3d& corner = corners[i][j][k];
+                corner = Vec3d(accessor.force.getValue(openvdb::Coord(i ? hi[0] : lo[0], j ? hi[1] : lo[1], k ? hi[2] : lo[2])));
+                const double magnitude = corner.length();
+                if (magnitude > strongest) corner *= strongest / magnitude;
+            }
+    const auto lerp = [](const Vec3d& a, const Vec3d& b, double w) { return a + (b - a) * w; };
+    Vec3d alongZ[2][2];
+    for (int i = 0; i < 2; ++i)
+        for (int j = 0; j < 2; ++j) alongZ[i][j] = lerp(corners[i][j][0], corners[i][j][1], weight[2]);
+    return {lerp(lerp(alongZ[0][0], alongZ[0][1], weight[1]), lerp(alongZ[1][0], alongZ[1][1], weight[1]), weight[0]), level};
+}
+
 Vec3d RepulsionField::hitTest(const std::vector<Vec3d>& points) const
 {
     openvdb::Vec3SGrid::ConstAccessor accessor = mForce->getConstAccessor();

@@ -9,20 +9,9 @@
 
 namespace vfield {
 
-namespace {
-
-OIIO::ImageBuf readImage(const std::string& path)
-{
-    OIIO::ImageBuf image(path);
-    if (!image.read(0, 0, true, OIIO::TypeDesc::FLOAT)) throw FileError(path, "cannot read the image: " + image.geterror());
-    return image;
-}
-
-} // namespace
-
 ImageComparison compareImages(const std::string& pathA, const std::string& pathB, const ImageCompareOptions& options)
 {
-    const OIIO::ImageBuf a = readImage(pathA), b = readImage(pathB);
+    const OIIO::ImageBuf a = readImageAsFloat(pathA), b = readImageAsFloat(pathB);
     ImageComparison result;
     const OIIO::ImageSpec &sa = a.spec(), &sb = b.spec();
     if (sa.width != sb.width || sa.height != sb.height || sa.depth != sb.depth) {

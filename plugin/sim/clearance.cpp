@@ -46,7 +46,6 @@ ClearanceProbe::ClearanceProbe(const Simulator& simulator) : mSimulator(simulato
 {
     for (std::size_t i = 0; i < simulator.objects().size(); ++i) {
         const SimObject& object = simulator.objects()[i];
-        const bool closed = analyzeTopology(object.mesh).isClosed();
         if (object.spec->isDynamic) {
             if (object.distance) mSurfaces.push_back({i, object.distance});
             else
@@ -54,14 +53,10 @@ ClearanceProbe::ClearanceProbe(const Simulator& simulator) : mSimulator(simulato
                                     "\" is not a closed mesh: particles and objects are not measured against it");
             continue;
         }
-        if (!closed)
+        if (!object.isClosed)
             mWarnings.push_back("object \"" + object.spec->name +
                                 "\" is not a closed mesh: its inside is undefined, so signed distances to it may be wrong");
-        const BBoxd box = object.mesh.bounds();
-        const double extent = box.extents()[box.maxExtent()];
-        const double voxel = object.field ? 0.5 * object.field->finestCellSize() : extent / 256.0;
-        const double reach = object.field ? 0.1 * object.field->rootSide() : 0.1 * extent;
-        mSurfaces.push_back({i, std::make_shared<MeshDistance>(object.mesh, voxel, reach, 3.0 * voxel)});
+        mSurfaces.push_back({i, object.distance});
     }
 }
 

@@ -53,6 +53,7 @@ ParticleSet emitClouds(const SimulationSetup& setup)
             particles.position.emplace_back(samplePointIn(cloud, puffs, random));
             particles.velocity.emplace_back(cloud.velocity);
             particles.rest.push_back(particles.position.back());
+            particles.peak.push_back(particles.position.back().y());
             particles.id.push_back(nextId++);
             particles.radius.push_back(float(cloud.particleRadius));
             particles.cloud.push_back(uint16_t(c));

@@ -43,25 +43,48 @@ Vec3d Simulator::uniformAcceleration(const std::vector<std::size_t>& fields, con
     return a;
 }
 
-Vec3d Simulator::repulsion(const Vec3d& p, double time, double mass, openvdb::Vec3SGrid::ConstAccessor* accessors) const
+Simulator::FieldsAt Simulator::fieldsAt(const Vec3d& p, double time, double mass, RepulsionField::Accessor* accessors,
+                                        bool withForces) const
 {
+    FieldsAt at;
     Vec3d force(0.0), flow(0.0);
+    bool inAnyField = false;
+    double cell = std::numeric_limits<double>::infinity();
     for (std::size_t k = 0; k < mRepulsive.size(); ++k) {
         const std::size_t i = mRepulsive[k];
         const SimObject& object = mObjects[i];
+        const RepulsionField& field = *object.field;
         const Transform pose = object.spec->isDynamic ? poseAt(i, time) : mStates[i].pose;
-        const bool rotated = isRotated(pose);
         const Vec3d local = objectPoint(pose, p);
-        if (!object.field->bounds().isInside(local)) continue;
-        const openvdb::Vec3d index = object.field->force()->transform().worldToIndex(local);
-        openvdb::Vec3s f;
-        if (mSetup.options.sampling == SimulationOptions::Sampling::Nearest)
-            openvdb::tools::PointSampler::sample(accessors[k], index, f);
-        else openvdb::tools::BoxSampler::sample(accessors[k], index, f);
-        const Vec3d world = rotated ? pose.rotateToWorld(Vec3d(f)) : Vec3d(f);
-        (object.field->isFlow() ? flow : force) += world;
+        // A moving field reaches whatever its root sweeps over during the frame.
+        const double sweep = k < mFieldSpeed.size() ? mFieldSpeed[k] * mFieldFrameTime / pose.scale : 0.0;
+        if (sweep > 0.0) {
+            BBoxd reach = field.bounds();
+            reach.expand(sweep);
+            if (!reach.isInside(local)) continue;
+        }
+        int level = field.depth(); // beyond the root but within its sweep: as fine as it gets
+        if (field.bounds().isInside(local)) {
+            // The leaf's level from the voxel holding p: finest-leaf voxels never straddle a leaf.
+            if (withForces) {
+                const RepulsionField::Sample sample = field.sample(accessors[k], local, mSetup.options.sampling);
+                (field.isFlow() ? flow : force) += isRotated(pose) ? pose.rotateToWorld(sample.force) : sample.force;
+                if (field.isFlow() && sample.level > 0) at.inFlow = true;
+                level = sample.level;
+            } else {
+                level = accessors[k].level.getValue(openvdb::Coord::round(field.level()->transform().worldToIndex(local)));
+            }
+            level = std::max(level, 1);
+        } else if (sweep == 0.0) {
+            continue;
+        }
+        inAnyField = true;
+        cell = std::min(cell, field.cellSize(level) * pose.scale);
+        if (k < mFieldSpeed.size()) at.bound.fieldSpeed = std::max(at.bound.fieldSpeed, mFieldSpeed[k]);
     }
-    return force / mass + flow;
+    if (inAnyField) at.bound.cell = cell;
+    at.acceleration = force / mass + flow;
+    return at;
 }
 
 void Simulator::measureFieldSpeeds(double t0, double t1)
@@ -85,35 +108,6 @@ void Simulator::measureFieldSpeeds(double t0, double t1)
     }
 }
 
-Simulator::LocalBound Simulator::localBound(const Vec3d& p, double time, openvdb::Int32Grid::ConstAccessor* levels) const
-{
-    LocalBound bound;
-    bool inAnyField = false;
-    double cell = std::numeric_limits<double>::infinity();
-    for (std::size_t k = 0; k < mRepulsive.size(); ++k) {
-        const std::size_t i = mRepulsive[k];
-        const SimObject& object = mObjects[i];
-        const Transform pose = object.spec->isDynamic ? poseAt(i, time) : mStates[i].pose;
-        const Vec3d local = objectPoint(pose, p);
-        const RepulsionField& field = *object.field;
-        // A moving field reaches whatever its root sweeps over during the frame.
-        const double sweep = k < mFieldSpeed.size() ? mFieldSpeed[k] * mFieldFrameTime / pose.scale : 0.0;
-        BBoxd reach = field.bounds();
-        reach.expand(sweep);
-        if (!reach.isInside(local)) continue;
-        inAnyField = true;
-        // The leaf's level from the voxel holding p: finest-leaf voxels never straddle a leaf.
-        const int level =
-            field.bounds().isInside(local)
-                ? std::max(levels[k].getValue(openvdb::Coord::round(field.level()->transform().worldToIndex(local))), 1)
-                : field.depth();
-        cell = std::min(cell, field.cellSize(level) * pose.scale);
-        if (k < mFieldSpeed.size()) bound.fieldSpeed = std::max(bound.fieldSpeed, mFieldSpeed[k]);
-    }
-    if (inAnyField) bound.cell = cell;
-    return bound;
-}
-
 bool Simulator::resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t, double dt,
                                 std::vector<MeshDistance::Accessor>& accessors) const
 {
@@ -128,15 +122,22 @@ bool Simulator::resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t,
         path.expand(b);
         if (!path.hasOverlap(distance.reach())) continue;
         const double skin = distance.voxelSize();
+        // Trilinear reads of a distance change by at most sqrt(3) per unit:
+        // a path starting this far out cannot come within half a voxel (most
+        // substeps, at one read instead of one per voxel of the path).
+        if (distance.distance(accessors[k], a) - std::sqrt(3.0) * (b - a).length() >= 0.5 * skin) continue;
         const int samples = std::max(1, int(std::ceil((b - a).length() / skin)));
         int hit = -1;
         for (int s = 0; s <= samples && hit < 0; ++s)
             if (distance.distance(accessors[k], a + (b - a) * (double(s) / samples)) < 0.5 * skin) hit = s;
         if (hit < 0) continue;
-        // Stop where the path reached the surface; a particle that began on
-        // or in it (rounding, or a rotation sweeping over it) is pushed out
-        // along the gradient.
-        Vec3d local = a + (b - a) * (double(std::max(hit - 1, 0)) / samples);
+        // A path that ends at or in the surface ends pushed out of it along
+        // the gradient, so a particle pressed onto a slope slides along it;
+        // one that went through and out again (a thin part) stops where it
+        // reached the surface. One that began on or in it (rounding, or a
+        // rotation sweeping over it) is pushed out too.
+        const bool endsAtSurface = distance.distance(accessors[k], b) < 0.5 * skin;
+        Vec3d local = endsAtSurface ? b : a + (b - a) * (double(std::max(hit - 1, 0)) / samples);
         for (int iteration = 0; iteration < 8; ++iteration) {
             const double d = distance.distance(accessors[k], local);
             if (d >= 0.5 * skin) break;
@@ -152,18 +153,6 @@ bool Simulator::resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t,
         touched = true;
     }
     return touched;
-}
-
-bool Simulator::inFlow(const Vec3d& p, openvdb::Int32Grid::ConstAccessor* levels) const
-{
-    for (const std::size_t k : mFlow) {
-        const RepulsionField& field = *mObjects[mRepulsive[k]].field;
-        const Vec3d local = objectPoint(mStates[mRepulsive[k]].pose, p); // flows are static
-        if (field.bounds().isInside(local) &&
-            levels[k].getValue(openvdb::Coord::round(field.level()->transform().worldToIndex(local))) > 0)
-            return true;
-    }
-    return false;
 }
 
 bool Simulator::endsInside(const Vec3d& x, double t, std::vector<MeshDistance::Accessor>& accessors) const
@@ -188,12 +177,8 @@ void Simulator::advanceParticles(double t0, double t1)
     measureFieldSpeeds(t0, t1);
 
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& range) {
-        std::vector<openvdb::Vec3SGrid::ConstAccessor> accessors;
-        std::vector<openvdb::Int32Grid::ConstAccessor> levels;
-        for (const std::size_t i : mRepulsive) {
-            accessors.push_back(mObjects[i].field->force()->getConstAccessor());
-            levels.push_back(mObjects[i].field->level()->getConstAccessor());
-        }
+        std::vector<RepulsionField::Accessor> accessors;
+        for (const std::size_t i : mRepulsive) accessors.push_back(mObjects[i].field->accessor());
         std::vector<MeshDistance::Accessor> distances;
         for (const std::size_t i : mContact) distances.push_back(mObjects[i].distance->accessor());
         for (std::size_t p = range.begin(); p != range.end(); ++p) {
@@ -203,18 +188,18 @@ void Simulator::advanceParticles(double t0, double t1)
             double t = t0;
             uint32_t steps = 0;
             while (t < t1) {
-                Vec3d a = uniformAcceleration(fields, x);
-                a += repulsion(x, t, cloud.mass, accessors.data());
+                const FieldsAt at = fieldsAt(x, t, cloud.mass, accessors.data(), true);
+                const Vec3d a = uniformAcceleration(fields, x) + at.acceleration;
                 // In a potential flow's band the particle moves with the flow:
                 // at the terminal velocity of what acts on it, without inertia.
-                const bool carried = inFlow(x, levels.data());
+                const bool carried = at.inFlow;
                 if (carried) v = a / cloud.drag;
                 // Each move stays within cfl of the cells around the particle,
                 // counting the motion of fields sweeping over it; where the
                 // step would end in finer cells, those bound it too.
-                const LocalBound here = localBound(x, t, levels.data());
+                const LocalBound& here = at.bound;
                 double dt = std::min(t1 - t, stepLimit(v.length() + here.fieldSpeed, a.length(), cfl * here.cell));
-                const LocalBound there = localBound(x + v * dt, t + dt, levels.data());
+                const LocalBound there = fieldsAt(x + v * dt, t + dt, cloud.mass, accessors.data(), false).bound;
                 if (there.cell < here.cell || there.fieldSpeed > here.fieldSpeed)
                     dt = std::min(dt, stepLimit(v.length() + std::max(here.fieldSpeed, there.fieldSpeed), a.length(),
                                                 cfl * std::min(here.cell, there.cell)));
@@ -235,6 +220,7 @@ void Simulator::advanceParticles(double t0, double t1)
             }
             mParticles.position[p] = Vec3f(x);
             mParticles.velocity[p] = Vec3f(v);
+            mParticles.peak[p] = std::max(mParticles.peak[p], mParticles.position[p].y());
             substepsOf[p] = steps;
         }
     });

@@ -14,6 +14,7 @@ void ParticleSet::reserve(std::size_t n)
     position.reserve(n);
     velocity.reserve(n);
     rest.reserve(n);
+    peak.reserve(n);
     id.reserve(n);
     radius.reserve(n);
     cloud.reserve(n);
@@ -28,6 +29,7 @@ void ParticleSet::keep(const std::vector<uint8_t>& alive)
         velocity[kept] = velocity[i];
         rest[kept] = rest[i];
         if (!rest2.empty()) rest2[kept] = rest2[i];
+        if (!peak.empty()) peak[kept] = peak[i];
         id[kept] = id[i];
         radius[kept] = radius[i];
         cloud[kept] = cloud[i];
@@ -37,6 +39,7 @@ void ParticleSet::keep(const std::vector<uint8_t>& alive)
     velocity.resize(kept);
     rest.resize(kept);
     if (!rest2.empty()) rest2.resize(kept);
+    if (!peak.empty()) peak.resize(kept);
     id.resize(kept);
     radius.resize(kept);
     cloud.resize(kept);
@@ -83,6 +86,7 @@ void ParticleSet::sortSpatially(const BBoxd& box)
     permute(velocity, order);
     permute(rest, order);
     if (!rest2.empty()) permute(rest2, order);
+    if (!peak.empty()) permute(peak, order);
     permute(id, order);
     permute(radius, order);
     permute(cloud, order);

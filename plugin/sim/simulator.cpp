@@ -39,18 +39,28 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
                 RepulsionField::build(object.mesh, *object.spec->repulsion, object.spec->transform.rotateToObject(cloudsWind));
             object.fieldSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         }
+        object.isClosed = analyzeTopology(object.mesh).isClosed();
+        const BBoxd box = object.mesh.bounds();
+        const double extent = box.extents()[box.maxExtent()];
         if (object.spec->isDynamic) {
             for (std::size_t t = 0; t < object.mesh.triangleCount(); ++t) object.centroids.push_back(object.mesh.centroid(t));
             for (const Vec3f& p : object.mesh.points) object.radius = std::max(object.radius, double(p.length()));
-            if (analyzeTopology(object.mesh).isClosed()) {
-                const BBoxd box = object.mesh.bounds();
-                const double extent = box.extents()[box.maxExtent()];
+            if (object.isClosed) {
                 // Wider bands cost cubically in voxels (a margin of 20 took 285 voxels
                 // and most of a four-aircraft run) and serve only measurement.
                 const double band =
                     object.field ? std::min(0.5 * (object.field->rootSide() - extent), 0.5 * extent) : 0.1 * extent;
                 object.distance = std::make_shared<MeshDistance>(object.mesh, extent / 128.0, band, 0.5 * extent);
             }
+        } else {
+            // Half the finest leaf (a box's few triangles make large ones), at
+            // most 1/256 of the extent, out to a tenth of the field's root,
+            // three voxels deep: contact stops a path at the first sample
+            // within half a voxel of the surface, so no path reaches deeper.
+            // An open mesh's is only measured (its inside is undefined).
+            const double voxel = std::min(object.field ? 0.5 * object.field->finestCellSize() : extent, extent / 256.0);
+            const double reach = object.field ? 0.1 * object.field->rootSide() : 0.1 * extent;
+            object.distance = std::make_shared<MeshDistance>(object.mesh, voxel, reach, 3.0 * voxel);
         }
     });
 
@@ -62,9 +72,8 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
         mStates[i].pose = object.spec->transform;
         mStates[i].velocity = object.spec->isDynamic ? object.spec->velocity : Vec3d(0.0);
         if (object.spec->isDynamic) turnToVelocity(mStates[i], Vec3d(0.0), *object.spec, 0.0);
-        if (object.distance) mContact.push_back(i);
+        if (object.distance && object.isClosed) mContact.push_back(i);
         if (!object.field) continue;
-        if (object.field->isFlow()) mFlow.push_back(mRepulsive.size());
         mRepulsive.push_back(i);
         const double scale = object.spec->transform.scale;
         mFinestCell = std::min(mFinestCell, object.field->finestCellSize() * scale);

@@ -55,7 +55,7 @@ private:
     std::size_t mAt = 0;
 };
 
-constexpr uint64_t kStateMagic = 0x3374617473646676ull; // "vfdstat3"
+constexpr uint64_t kStateMagic = 0x3474617473646676ull; // "vfdstat4": with peak heights
 
 } // namespace
 
@@ -78,6 +78,7 @@ std::string Simulator::serializeState() const
     putVector(out, mParticles.velocity);
     putVector(out, mParticles.rest);
     putVector(out, mParticles.rest2);
+    putVector(out, mParticles.peak);
     putVector(out, mParticles.id);
     putVector(out, mParticles.radius);
     putVector(out, mParticles.cloud);
@@ -105,13 +106,14 @@ void Simulator::restoreState(const std::string& bytes)
     in.getVector(particles.velocity);
     in.getVector(particles.rest);
     in.getVector(particles.rest2);
+    in.getVector(particles.peak);
     in.getVector(particles.id);
     in.getVector(particles.radius);
     in.getVector(particles.cloud);
     const std::size_t n = particles.size();
     if (!in.atEnd() || particles.velocity.size() != n || particles.rest.size() != n ||
-        particles.rest2.size() != (mSetup.options.restPeriod == 0 ? 0 : n) || particles.id.size() != n ||
-        particles.radius.size() != n || particles.cloud.size() != n)
+        particles.rest2.size() != (mSetup.options.restPeriod == 0 ? 0 : n) || particles.peak.size() != n ||
+        particles.id.size() != n || particles.radius.size() != n || particles.cloud.size() != n)
         throw ValueError("the saved simulation state is inconsistent");
     for (const uint16_t c : particles.cloud)
         if (c >= mSetup.clouds.size()) throw ValueError("the saved state is of another scene (cloud index)");

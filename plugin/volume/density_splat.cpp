@@ -25,6 +25,8 @@ namespace vfield {
 
 void VolumeDetail::validate() const { checkFields(*this); }
 
+void Condensation::validate() const { checkFields(*this); }
+
 void VolumeOptions::validate() const
 {
     checkFields(*this);
@@ -194,7 +196,7 @@ openvdb::FloatGrid::Ptr detailedDensity(const openvdb::FloatGrid& density, const
     for (auto leaf = mask.tree().cbeginLeaf(); leaf; ++leaf) coarseLeaves.push_back(leaf.getLeaf());
 
     const GradientNoise noise(detail.seed);
-    const FractalOptions fractal{detail.octaves, 2.0, 0.5};
+    const FractalOptions fractal{detail.octaves, 2.0, detail.gain};
     const float frequency = float(detail.frequency), amplitude = float(detail.amplitude);
     const double inverseSoftness = 1.0 / edgeSoftness;
     // Two independent noises blended with weights a and b have a standard
@@ -298,6 +300,11 @@ void keepWhereActive(openvdb::Vec3SGrid& velocity, const openvdb::FloatGrid& den
 
 } // namespace
 
+float Condensation::share(float y, float peak) const
+{
+    return enabled() ? float(smoothstep01(1.0 - (double(peak) - double(y)) / depth)) : 1.0f;
+}
+
 DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& options, SplatSeconds* seconds)
 {
     const Stopwatch watch;
@@ -321,6 +328,7 @@ DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& o
     }
 
     const auto transform = openvdb::math::Transform::createLinearTransform(voxel);
+    const Condensation& condensation = resolved.condensation;
 
     // Index space is world space over the voxel size (the transform is a pure scale).
     const double inverseVoxel = 1.0 / voxel;
@@ -335,6 +343,9 @@ DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& o
         sums.reset(box, channels.size());
         for (std::size_t p = first; p != last; ++p) {
             const openvdb::Vec3s v = particles.velocity[p];
+            const float y = particles.position[p].y();
+            const float share = condensation.share(y, particles.peak.size() == particles.size() ? particles.peak[p] : y);
+            if (share == 0.0f) continue;
             const openvdb::Vec3d index = indexOf(p);
             const openvdb::Coord base = openvdb::Coord::floor(index);
             const float fx = float(index.x() - base.x()), fy = float(index.y() - base.y()), fz = float(index.z() - base.z());
@@ -343,7 +354,7 @@ DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& o
                 for (int j = 0; j < 2; ++j) {
                     const std::size_t row = sums.at(base.offsetBy(i, j, 0));
                     for (int k = 0; k < 2; ++k) {
-                        const float weight = wx[i] * wy[j] * wz[k];
+                        const float weight = wx[i] * wy[j] * wz[k] * share;
                         const std::size_t at = row + std::size_t(k);
                         sums.w[at] += weight;
                         sums.vx[at] += v[0] * weight;

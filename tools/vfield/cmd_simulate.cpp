@@ -80,9 +80,8 @@ Runner registerSimulate(CLI::App& app, const GlobalOptions& global)
                             (pair.exact ? "min " : "at least ") + text + (pair.minimum < 0.0 ? " (they overlap)" : ""));
         }
         if (summary.contacts > 0)
-            log(global,
-                std::to_string(summary.contacts) +
-                    " particle substeps ended on a dynamic object's surface (contacts: its field alone did not turn them away)");
+            log(global, std::to_string(summary.contacts) +
+                            " particle substeps ended on an object's surface (contacts: its field alone did not turn them away)");
         if (summary.endedInside > 0)
             log(global, "warning: " + std::to_string(summary.endedInside) + " particle substeps ended inside a dynamic object");
         const StageSeconds& s = summary.stages;

@@ -61,6 +61,7 @@ int main(int argc, char** argv)
         {"farm", registerFarm(app, global)},
         {"help", registerHelp(app, global)},
         {"verify", registerVerify(app, global)},
+        {"silhouette", registerSilhouette(app, global)},
     };
 
     try {

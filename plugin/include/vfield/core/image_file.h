@@ -14,6 +14,10 @@ namespace vfield {
 /// converting to the format's pixel type. Throws FileError on failure.
 void writeImage(const OIIO::ImageBuf& image, const std::string& path);
 
+/// A whole image, every channel as floats (integer formats scaled to [0, 1]).
+/// Throws FileError naming the file if it cannot be read.
+OIIO::ImageBuf readImageAsFloat(const std::string& path);
+
 /// The first channel of an image, as floats: integer formats scaled to
 /// [0, 1] (a 16-bit PNG's 65535 is 1), float formats as stored. Rows top to bottom.
 struct ImagePlane {

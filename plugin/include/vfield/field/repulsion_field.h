@@ -50,6 +50,24 @@ inline constexpr EnumName<RepulsionMethod> kRepulsionMethodNames[] = {{Repulsion
                                                                       {RepulsionMethod::PotentialFlow, "potentialFlow"}};
 constexpr const auto& enumNames(RepulsionMethod) { return kRepulsionMethodNames; }
 
+/// How a field is read between the centres of its voxels.
+enum class FieldSampling {
+    Nearest,   ///< the voxel holding the point: the paper's field, constant over each octree leaf
+    Trilinear, ///< trilinear between voxel centres: smooth only within the finest cells
+    /// Octree: trilinear between the centres of the leaves of the point's own
+    /// level around it (the octree's dual grid), so between two neighbouring
+    /// leaves of one level the force changes linearly from one's to the
+    /// other's instead of stepping at their face. A neighbour read where
+    /// finer leaves lie pushes no harder than the point's own leaf (a
+    /// surface leaf's boost stays near the surface), so where the level
+    /// changes a smaller step remains. Other methods, whose voxels are their
+    /// structure: Trilinear.
+    Dual
+};
+inline constexpr EnumName<FieldSampling> kFieldSamplingNames[] = {
+    {FieldSampling::Nearest, "nearest"}, {FieldSampling::Trilinear, "trilinear"}, {FieldSampling::Dual, "dual"}};
+constexpr const auto& enumNames(FieldSampling) { return kFieldSamplingNames; }
+
 struct RepulsionOptions {
     RepulsionMethod method = RepulsionMethod::Octree;
     /// margin, strength, growth, surfaceBoost and flipNormals apply to every method
@@ -103,6 +121,20 @@ public:
     const openvdb::Vec3SGrid::Ptr& force() const { return mForce; }
     /// Levels on the force's voxels (1..depth(); 0 where the field is zero).
     const openvdb::Int32Grid::Ptr& level() const { return mLevel; }
+
+    /// Cached reads of force() and level(), one per thread.
+    struct Accessor {
+        openvdb::Vec3SGrid::ConstAccessor force;
+        openvdb::Int32Grid::ConstAccessor level;
+    };
+    Accessor accessor() const { return {mForce->getConstAccessor(), mLevel->getConstAccessor()}; }
+    struct Sample {
+        Vec3d force; ///< as force() holds it
+        int level;   ///< of the voxel holding the point: cellSize(level) is the structure there
+    };
+    /// The force at an object-space point (zero outside bounds()) and the
+    /// level there, in one lookup of the level: what a substep needs.
+    Sample sample(Accessor& accessor, const Vec3d& local, FieldSampling sampling) const;
 
     /// The paper's hit test of another object's points (object space of this
     /// field): the normalized average of the unit directions at the points

@@ -25,6 +25,10 @@ struct ParticleSet {
     /// How much of the detail comes from rest2 (0..1): 0 whenever rest2 is
     /// reset, 1 whenever rest is, so no reset shows. 0 with a single rest.
     float rest2Weight = 0.0f;
+    /// The highest the particle has been at a frame's end (world y): how far
+    /// it has sunk since is what evaporates it (VolumeOptions::condensation).
+    /// The simulator keeps one per particle; may be empty in sets made elsewhere.
+    std::vector<float> peak;
     std::vector<uint32_t> id;    ///< unique for the whole sequence
     std::vector<float> radius;   ///< world units (pscale)
     std::vector<uint16_t> cloud; ///< index of the cloud it came from

@@ -196,11 +196,10 @@ struct UniformFieldSpec {
 };
 
 struct SimulationOptions {
-    enum class Sampling { Nearest, Trilinear };
-    static constexpr EnumName<Sampling> kSamplingNames[] = {{Sampling::Nearest, "nearest"}, {Sampling::Trilinear, "trilinear"}};
-    friend constexpr const auto& enumNames(Sampling) { return kSamplingNames; }
-    /// nearest: the paper's exact leaf forces; trilinear: smoothed across voxels.
-    Sampling sampling = Sampling::Nearest;
+    using Sampling = FieldSampling;
+    /// How particles read the objects' fields (FieldSampling): dual, continuous
+    /// across octree leaf faces; nearest, the paper's field, constant over each leaf.
+    Sampling sampling = Sampling::Dual;
     /// Nothing moves more than cfl x (the finest leaf size of any field) in one substep (1e-3..1).
     double cfl = 0.5;
     /// Particles leaving this box are removed (and counted). Unset: the union of
@@ -220,7 +219,10 @@ struct SimulationOptions {
     template<typename Self, typename Visitor>
     static void visitFields(Self& self, Visitor& visit)
     {
-        visit(field("sampling", self.sampling).doc("nearest: the paper's exact leaf forces; trilinear: smoothed across voxels"));
+        visit(field("sampling", self.sampling)
+                  .doc("how particles read the fields: dual, octree leaf forces interpolated between leaf centres, "
+                       "continuous across leaf faces; nearest, the paper's exact leaf forces, constant over each leaf; "
+                       "trilinear, between voxel centres, smooth within the finest leaves only"));
         visit(field("cfl", self.cfl)
                   .range(1e-3, 1)
                   .doc("per substep nothing moves more than cfl x the leaf size of the fields around it, relative to them"));

@@ -20,11 +20,14 @@
 ///
 /// Beyond the paper, contact: a field cannot stop a particle that an object
 /// overtakes faster than its force can accelerate it (a box at 50 units/s
-/// through resting particles). Where a substep's path, followed in a dynamic
-/// object's frame, reaches its surface, the particle stays on the surface
-/// (one distance voxel out) and loses its velocity into it relative to the
-/// surface's own: pushed aside and carried along, never inside. StepStats
-/// counts these contacts, so where the field falls short shows.
+/// through resting particles), nor, with its forces interpolated between
+/// leaves (FieldSampling::Dual), one it pushes more softly near a surface
+/// than the paper's field would. Where a substep's path, followed in an
+/// object's frame, reaches its closed mesh's exact level set (static or
+/// dynamic), the particle stays on the surface (one distance voxel out) and
+/// loses its velocity into it relative to the surface's own: pushed aside
+/// and carried along, never inside. StepStats counts these contacts, so
+/// where the field falls short shows.
 
 #include <vfield/field/repulsion_field.h>
 #include <vfield/mesh/mesh_distance.h>
@@ -50,10 +53,14 @@ struct SimObject {
     std::vector<Vec3d> centroids;                ///< object space, for the hit test (dynamic objects)
     double radius = 0.0;                         ///< farthest vertex from the pivot, object units: how far rotation moves it
     MeshLoadReport loadReport;                   ///< what loading a mesh file found and repaired
-    /// Dynamic objects with a closed mesh: its signed distance (voxel 1/128 of
-    /// its largest extent, out to its field's margin but at most half that
-    /// extent, the whole inside), where particles make contact and where
-    /// objects are measured. Null otherwise.
+    bool isClosed = false;                       ///< the mesh encloses a volume: its signed distance has an inside
+    /// The mesh's signed distance, where particles make contact (closed meshes)
+    /// and where objects are measured. Dynamic objects with a closed mesh:
+    /// voxel 1/128 of its largest extent, out to its field's margin but at
+    /// most half that extent, the whole inside; null for an open one. Static
+    /// objects: voxel half the field's finest leaf, at most 1/256 of the
+    /// largest extent, out to a tenth of the field's root (or of the
+    /// extent), three voxels inside.
     std::shared_ptr<MeshDistance> distance;
 };
 
@@ -64,9 +71,9 @@ struct StepStats {
     uint32_t dynamicSubsteps = 0; ///< substeps of the dynamic objects
     double maxRollChange = 0.0;   ///< the most any dynamic object rolled this frame, degrees
     uint64_t removed = 0;         ///< particles that left the domain this frame
-    uint64_t contacts = 0;        ///< particle substeps that ended on a dynamic object's surface (see Simulator)
-    /// Particle substeps that ended inside a dynamic object's closed mesh, by
-    /// its signed distance as the object then stands: zero unless contact failed.
+    uint64_t contacts = 0;        ///< particle substeps that ended on an object's surface (see Simulator)
+    /// Particle substeps that ended inside an object's closed mesh, by its
+    /// signed distance as the object then stands: zero unless contact failed.
     uint64_t endedInside = 0;
 };
 
@@ -109,8 +116,6 @@ public:
     void restoreState(const std::string& bytes);
 
 private:
-    /// The acceleration of every object's field at a point of this mass.
-    Vec3d repulsion(const Vec3d& worldPoint, double time, double mass, openvdb::Vec3SGrid::ConstAccessor* accessors) const;
     /// What bounds a particle's substep at p: the size of the smallest field
     /// cell there (world units; 1 where no field reaches), and the speed of
     /// the fastest field moving over p this frame (a dynamic object's
@@ -120,7 +125,14 @@ private:
         double cell = 1.0;
         double fieldSpeed = 0.0;
     };
-    LocalBound localBound(const Vec3d& p, double time, openvdb::Int32Grid::ConstAccessor* levels) const;
+    /// What the objects' fields do at a point, from one read of each field;
+    /// without forces, the bound alone (from the fields' levels).
+    struct FieldsAt {
+        Vec3d acceleration{0.0}; ///< of a point of the given mass
+        LocalBound bound;
+        bool inFlow = false; ///< p lies in the band of a potential flow (RepulsionMethod::PotentialFlow)
+    };
+    FieldsAt fieldsAt(const Vec3d& p, double time, double mass, RepulsionField::Accessor* accessors, bool withForces) const;
     void advanceDynamicObjects(double t0, double t1, const std::function<void()>& afterSubstep);
     /// The uniform fields (indices into the setup's) acting at p.
     Vec3d uniformAcceleration(const std::vector<std::size_t>& fields, const Vec3d& p) const;
@@ -130,8 +142,6 @@ private:
     void updateRestPositions();
     bool resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t, double dt,
                          std::vector<MeshDistance::Accessor>& accessors) const;
-    /// Whether p lies in the band of a potential flow (RepulsionMethod::PotentialFlow).
-    bool inFlow(const Vec3d& p, openvdb::Int32Grid::ConstAccessor* levels) const;
     /// Whether x lies inside a dynamic object's closed mesh as placed at time t.
     bool endsInside(const Vec3d& x, double t, std::vector<MeshDistance::Accessor>& accessors) const;
     Transform poseAt(std::size_t object, double time) const;
@@ -142,8 +152,7 @@ private:
     std::vector<SimObject> mObjects;
     std::vector<DynamicState> mStates, mStatesAtFrameStart;
     std::vector<std::size_t> mRepulsive; ///< objects with a field
-    std::vector<std::size_t> mContact;   ///< dynamic objects with a distance (SimObject::distance)
-    std::vector<std::size_t> mFlow;      ///< indices into mRepulsive of the potential flows
+    std::vector<std::size_t> mContact;   ///< objects with a closed mesh's distance (SimObject::distance)
     /// The uniform fields acting on each object and each cloud (UniformFieldSpec::affects).
     std::vector<std::vector<std::size_t>> mObjectFields, mCloudFields;
     ParticleSet mParticles;

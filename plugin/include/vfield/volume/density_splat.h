@@ -40,8 +40,12 @@ namespace vfield {
 struct VolumeDetail {
     double voxelSize =
         0.0; ///< detail voxel size, world units (0..1e9); 0: no detail. Rounded so that it divides the splat's voxel
-    double frequency = 0.3;    ///< of the coarsest octave, 1 / world units of rest position (1e-9..1e9)
-    int octaves = 4;           ///< (1..10)
+    double frequency = 0.3; ///< of the coarsest octave, 1 / world units of rest position (1e-9..1e9)
+    int octaves = 4;        ///< (1..10)
+    /// Amplitude ratio of successive octaves (0.1..0.95): 0.5 is a smooth
+    /// noise whose outlines measure about 1; g makes outlines of box-counting
+    /// dimension about 2 + log2(g) over the octaves' scales (0.7: 1.49).
+    double gain = 0.5;
     double amplitude = 0.8;    ///< (0..4)
     double edgeSoftness = 0.0; ///< density units (0..1e12); 0: the peak density of one lone particle
     uint64_t seed = 1;         ///< noise seed
@@ -61,6 +65,10 @@ struct VolumeDetail {
                   .unit("1/world units")
                   .doc("of the coarsest octave, over rest positions"));
         visit(field("octaves", self.octaves).range(1, 10).doc("noise octaves"));
+        visit(field("gain", self.gain)
+                  .range(0.1, 0.95)
+                  .doc("amplitude ratio of successive octaves: 0.5 is smooth; larger is rougher, outlines of fractal "
+                       "dimension about 2 + log2(gain) over the octaves' scales (real clouds: 1.33 to 1.35, gain 0.63)"));
         visit(
             field("amplitude", self.amplitude).range(0, 4).doc("how strongly the noise billows the inside and erodes the edges"));
         visit(field("edgeSoftness", self.edgeSoftness)
@@ -69,6 +77,33 @@ struct VolumeDetail {
                   .defaultText("one lone particle's peak density")
                   .doc("density over which the edges are eroded; larger erodes deeper; 0: the default"));
         visit(field("seed", self.seed).doc("noise seed"));
+    }
+};
+
+/// Clouds that dissolve as their air sinks: a parcel of cloud holds the
+/// droplets it condensed at the highest (coldest) point it reached, and
+/// sinking warms it and evaporates them. Each particle deposits its full
+/// share of the density while at its peak height (ParticleSet::peak) and
+/// smoothly less as it sinks below it, none `depth` under it, so a cloud
+/// pouring over a ridge and down its lee slope thins into wisps (where the
+/// detail erodes the thinned edges) and vanishes, as a tablecloth cloud does.
+///   share = smoothstep(0, 1, 1 - (peak - y) / depth)
+struct Condensation {
+    double depth = 0.0; ///< world units (0..1e9) a particle sinks below its peak before its density is gone; 0: off
+
+    bool enabled() const { return depth > 0.0; }
+    void validate() const;
+    /// A particle's share of its density at height y after a peak at `peak` (1 when off).
+    float share(float y, float peak) const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("depth", self.depth)
+                  .range(0, 1e9)
+                  .unit("world units")
+                  .doc("how far a particle sinks below the highest point it reached before its density is gone "
+                       "(smoothly); 0: off"));
     }
 };
 
@@ -88,6 +123,7 @@ struct VolumeOptions {
                                ///< radius; at least one voxel
     double densityPerParticle = 1.0; ///< density integral of one particle (0..1e12; extinction is density x sigma)
     VolumeDetail detail;
+    Condensation condensation;
     /// Voxels below this fraction of one lone particle's peak density are
     /// left out (0..1): the kernels' faint fringe, whose optical depth is at
     /// most extinction x cutoff x peak per unit; 0 keeps every voxel.
@@ -122,6 +158,8 @@ struct VolumeOptions {
                   .range(0, 1e12)
                   .doc("what one particle adds to the density's integral (extinction is density x sigma)"));
         visit(field("detail", self.detail).doc("noise detail finer than the particles, moving with the cloud"));
+        visit(field("condensation", self.condensation)
+                  .doc("clouds that evaporate as their air sinks from the highest point it reached; off unless depth is set"));
         visit(field("cutoff", self.cutoff)
                   .range(0, 1)
                   .doc("voxels below this fraction of one lone particle's peak density are left out of the grid: the "
@@ -147,19 +185,20 @@ struct DensityGrids {
     openvdb::Vec3SGrid::Ptr velocity;
 };
 
+/// Where a splat's time went (wall clock, seconds).
+struct SplatSeconds {
+    double splat = 0.0;  ///< the deposit, the blur and the grids' values
+    double detail = 0.0; ///< the noise detail, the cutoff and the velocity's trim
+};
 /// Splats with options.resolved(mean radius of the particles), the grids set
 /// to be written at options' precisions; particles in
 /// spatial order (ParticleSet::sortSpatially) splat about ten times faster
 /// than in random order. Throws
 /// OptionError if the voxel size would make an absurd kernel. particles.rest
 /// may be empty: positions then stand in for it; rest2 is used when it has a
-/// position for every particle. With detail, `density` is
+/// position for every particle, peak when it has a height for every
+/// particle (otherwise each counts as at its peak). With detail, `density` is
 /// the detailed grid (detail.voxelSize) and `vel` stays at the splat's voxel size.
-/// Where a splat's time went (wall clock, seconds).
-struct SplatSeconds {
-    double splat = 0.0;  ///< the deposit, the blur and the grids' values
-    double detail = 0.0; ///< the noise detail, the cutoff and the velocity's trim
-};
 DensityGrids splatParticles(const ParticleSet& particles, const VolumeOptions& options, SplatSeconds* seconds = nullptr);
 
 } // namespace vfield
