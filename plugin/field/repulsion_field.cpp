@@ -31,10 +31,10 @@ RepulsionField::Sample RepulsionField::sample(Accessor& accessor, const Vec3d& l
     const openvdb::Vec3d index = mForce->transform().worldToIndex(local);
     const openvdb::Coord voxel = openvdb::Coord::round(index);
     const int level = accessor.level.getValue(voxel);
-    openvdb::Vec3s f;
     if (sampling == FieldSampling::Nearest) return {Vec3d(accessor.force.getValue(voxel)), level};
     if (sampling == FieldSampling::Trilinear || mMethod != RepulsionMethod::Octree || level < 1 || level >= mDepth) {
         // The finest leaves' centres are the voxels' own: there the dual grid is the voxel grid.
+        openvdb::Vec3s f;
         openvdb::tools::BoxSampler::sample(accessor.force, index, f);
         return {Vec3d(f), level};
     }

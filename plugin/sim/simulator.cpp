@@ -58,7 +58,8 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
             // three voxels deep: contact stops a path at the first sample
             // within half a voxel of the surface, so no path reaches deeper.
             // An open mesh's is only measured (its inside is undefined).
-            const double voxel = std::min(object.field ? 0.5 * object.field->finestCellSize() : extent, extent / 256.0);
+            double voxel = extent / 256.0;
+            if (object.field) voxel = std::min(voxel, 0.5 * object.field->finestCellSize());
             const double reach = object.field ? 0.1 * object.field->rootSide() : 0.1 * extent;
             object.distance = std::make_shared<MeshDistance>(object.mesh, voxel, reach, 3.0 * voxel);
         }
