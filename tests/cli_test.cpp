@@ -2,6 +2,11 @@
 
 #include <vfield/core/vdb_file.h>
 #include <vfield/mesh/mesh_io.h>
+#include <vfield/render/povray/povray_runner.h>
+#include <vfield/scene/versions.h>
+
+#include <embree3/rtcore_config.h>
+#include <openvdb/version.h>
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
@@ -129,6 +134,24 @@ TEST_CASE("cli: a bad mesh is one error line and exit 1, bad usage is exit 2", "
     CHECK(lineCount(unknown.err) == 1);
     const Run none = vfieldCli("", dir);
     CHECK(none.exitCode == 2);
+}
+
+TEST_CASE("cli: --version prints vfield's version and those of the libraries it runs with", "[cli]")
+{
+    const std::string dir = vfield::test::scratchDir("cli-version");
+    const Run run = vfieldCli("--version", dir);
+    INFO(run.err);
+    REQUIRE(run.exitCode == 0);
+    const vfield::Versions versions = vfield::versions();
+    CHECK(run.out == vfield::versionReport(versions) + "\n");
+    CHECK(run.out.rfind("vfield " + versions.vfield + "\nOpenVDB ", 0) == 0);
+    // The libraries that run are those vfield was built against.
+    CHECK(versions.openvdb == OPENVDB_LIBRARY_VERSION_STRING);
+    CHECK(versions.embree == RTC_VERSION_STRING);
+    CHECK(versions.openImageIO == std::to_string(OIIO_VERSION_MAJOR) + "." + std::to_string(OIIO_VERSION_MINOR) + "." +
+                                      std::to_string(OIIO_VERSION_PATCH));
+    CHECK(versions.povray.has_value() == vfield::povrayAvailable());
+    if (versions.povray) CHECK(versions.povray->rfind("3.7.", 0) == 0);
 }
 
 TEST_CASE("cli: every subcommand has help", "[cli]")

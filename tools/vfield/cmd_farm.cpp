@@ -65,7 +65,7 @@ Runner registerFarm(CLI::App& app, const GlobalOptions& global)
         const Scene scene = loadScene(o->scene); // refuses a bad scene before anything is written
         FarmPlan plan;
         plan.vfield = fs::read_symlink("/proc/self/exe").string();
-        plan.toolsDir = VFIELD_TOOLS_DIR;
+        plan.makeSheet = farmHelper("make-sheet");
         plan.scene = fs::absolute(o->scene.path).lexically_normal().string();
         plan.out = fs::absolute(o->output).lexically_normal().string();
         plan.overrides = o->scene.allOverrides();

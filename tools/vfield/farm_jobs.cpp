@@ -5,6 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <unistd.h>
+
 #include <array>
 #include <cstdio>
 #include <cstdlib>
@@ -104,6 +106,18 @@ std::string submit(const std::string& script, const std::string& dependency)
 
 } // namespace
 
+std::string farmHelper(const std::string& name)
+{
+    const fs::path vfieldDir = fs::read_symlink("/proc/self/exe").parent_path();
+    std::error_code buildTreeGone; // then this vfield is not the build tree's: false, not an error
+    const bool isBuildTree = fs::equivalent(vfieldDir, VFIELD_BUILD_BIN_DIR, buildTreeGone);
+    const fs::path helper =
+        isBuildTree ? fs::path(VFIELD_SOURCE_TOOLS_DIR) / name : (vfieldDir / VFIELD_HELPERS_FROM_BIN / name).lexically_normal();
+    if (::access(helper.c_str(), X_OK) != 0)
+        throw FileError(helper.string(), "missing or not executable; the farm's jobs run it (is vfield installed whole?)");
+    return helper.string();
+}
+
 std::vector<FarmVariant> wedgeVariants(const std::string& out, const std::vector<std::string>& wedges)
 {
     std::vector<FarmVariant> variants(1);
@@ -162,8 +176,8 @@ std::vector<std::string> writeFarmScripts(const FarmPlan& plan)
                                    quote(v.dir) + " --wait --frames \"$first-$last\" --threads \"${SLURM_CPUS_PER_TASK:-" +
                                    std::to_string(plan.cpusPerTask) + "}\"" + renderArgs + "\n";
         const std::string finish = header(plan, "vfield-finish" + tag, dir + "/finish-%j.log") + "set -euo pipefail\n" +
-                                   quote(plan.toolsDir + "/make-sheet") + " " + quote(v.dir) + " " +
-                                   quote(v.dir + "/contact.jpg") + " " + quote(v.dir + "/preview.mp4") + "\n";
+                                   quote(plan.makeSheet) + " " + quote(v.dir) + " " + quote(v.dir + "/contact.jpg") + " " +
+                                   quote(v.dir + "/preview.mp4") + "\n";
         for (const auto& [name, text] : {std::pair{"simulate", simulate}, {"render", render}, {"finish", finish}}) {
             const std::string path = dir + "/" + name + ".sh";
             writeTextAtomically(path, text);
@@ -183,8 +197,7 @@ std::vector<std::string> writeFarmScripts(const FarmPlan& plan)
             tiles += " " + quote(frameName(v.dir, plan.last)) + " " + quote(label);
         }
         const std::string sheet = header(plan, "vfield-wedges", farmDir(plan.out) + "/wedges-%j.log") + "set -euo pipefail\n" +
-                                  quote(plan.toolsDir + "/make-sheet") + " --row " + quote(plan.out + "/wedges.jpg") + tiles +
-                                  "\n";
+                                  quote(plan.makeSheet) + " --row " + quote(plan.out + "/wedges.jpg") + tiles + "\n";
         fs::create_directories(farmDir(plan.out));
         writeTextAtomically(farmDir(plan.out) + "/wedges.sh", sheet);
         scripts.push_back(farmDir(plan.out) + "/wedges.sh");

@@ -19,7 +19,7 @@ struct FarmVariant {
 
 struct FarmPlan {
     std::string vfield;                  ///< absolute path of this vfield command
-    std::string toolsDir;                ///< the project's tools/ (make-sheet)
+    std::string makeSheet;               ///< absolute path of tools/make-sheet (farmHelper)
     std::string scene, out;              ///< absolute
     std::vector<std::string> overrides;  ///< the user's --set, "POINTER=JSON"
     std::vector<std::string> renderArgs; ///< --backend and the like, passed to vfield render
@@ -31,6 +31,13 @@ struct FarmPlan {
     int chunks() const { return (last - first) / chunk + 1; }
     bool isWedge() const { return !variants.front().name.empty(); }
 };
+
+/// The absolute path of a script the farm's jobs run (make-sheet). Installed,
+/// it lies in <prefix>/libexec/vfield/, found from this vfield's own path
+/// (<prefix>/bin/vfield), so a job never runs another copy's; only the vfield
+/// the build tree made runs the source tree's tools/. Throws Error when it is
+/// missing.
+std::string farmHelper(const std::string& name);
 
 /// The variants of the wedges ("POINTER=v1,v2,..." each; values are JSON,
 /// split at commas outside brackets and quotes), every combination, in order.

@@ -4,6 +4,8 @@
 
 #include "command.h"
 
+#include <vfield/scene/versions.h>
+
 #include <tbb/global_control.h>
 
 #include <iostream>
@@ -44,6 +46,9 @@ int main(int argc, char** argv)
     app.fallthrough(); // global options may follow the subcommand
     GlobalOptions global;
     app.add_flag("-q,--quiet", global.quiet, "No progress or log lines on stderr");
+    app.set_version_flag(
+        "--version", [] { return vfield::versionReport(vfield::versions()); },
+        "Print vfield's version and those of OpenVDB, Embree, OpenImageIO and POV-Ray");
 
     const std::map<std::string, Runner> runners = {
         {"make-mesh", registerMakeMesh(app, global)},
@@ -70,9 +75,14 @@ int main(int argc, char** argv)
         return app.exit(e);
     } catch (const CLI::CallForAllHelp& e) {
         return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
     } catch (const CLI::ParseError& e) {
         std::cerr << "vfield: " << oneLine(e.what()) << " (see vfield --help)\n";
         return 2;
+    } catch (const std::exception& e) { // --version asks the libraries while parsing
+        std::cerr << "vfield: " << oneLine(e.what()) << '\n';
+        return 1;
     }
 
     const CLI::App* command = app.get_subcommands().front();

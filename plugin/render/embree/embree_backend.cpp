@@ -5,6 +5,8 @@
 #include <vfield/render/embree/renderer.h>
 #include <vfield/render/frame_image.h>
 
+#include <embree3/rtcore.h>
+
 #include <chrono>
 #include <filesystem>
 
@@ -44,6 +46,16 @@ void EmbreeBackend::render(const FrameView& view, const std::string& out)
     const RenderImage image = renderFrame(frame);
     for (const std::string& path : frameFiles(out, view.frame)) writeFrameImage(image, path);
     mSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::string embreeVersion()
+{
+    RTCDevice device = rtcNewDevice(nullptr);
+    if (!device) throw Error("Embree could not create a device");
+    // Embree packs its version as major * 10000 + minor * 100 + patch.
+    const ssize_t packed = rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_VERSION);
+    rtcReleaseDevice(device);
+    return std::to_string(packed / 10000) + "." + std::to_string(packed / 100 % 100) + "." + std::to_string(packed % 100);
 }
 
 } // namespace vfield

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <deque>
@@ -58,6 +59,24 @@ void requirePovray()
 {
     if (!povrayAvailable())
         throw Error("POV-Ray (the povray program) is not on PATH; install the Debian package 'povray' (tools/setup does)");
+}
+
+std::optional<std::string> povrayVersion()
+{
+    if (!povrayAvailable()) return std::nullopt;
+    // `povray --version` prints its banner, "POV-Ray 3.7.0.10.unofficial" first,
+    // after a complaint when the user has no povray.conf of their own.
+    std::FILE* pipe = ::popen((std::string(kProgram) + " --version 2>&1 </dev/null").c_str(), "r");
+    if (!pipe) return std::nullopt;
+    std::optional<std::string> version;
+    const std::string banner = "POV-Ray ";
+    for (char line[256]; std::fgets(line, sizeof line, pipe);) {
+        const std::string text(line);
+        if (!version && text.rfind(banner, 0) == 0)
+            version = text.substr(banner.size(), text.find_first_of(" \r\n", banner.size()) - banner.size());
+    }
+    ::pclose(pipe);
+    return version;
 }
 
 void runPovray(const std::string& folder, const std::string& sceneFile, const std::string& imageFile, const ImageSettings& image,

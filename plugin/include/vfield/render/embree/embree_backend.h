@@ -38,4 +38,8 @@ private:
     std::vector<std::string> mFormats;
 };
 
+/// The version of the Embree library loaded ("3.13.5"), as a device of its
+/// own reports it. Throws Error when Embree cannot create a device.
+std::string embreeVersion();
+
 } // namespace vfield

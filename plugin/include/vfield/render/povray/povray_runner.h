@@ -7,6 +7,7 @@
 
 #include <vfield/render/render_settings.h>
 
+#include <optional>
 #include <string>
 
 namespace vfield {
@@ -27,5 +28,8 @@ void runPovray(const std::string& folder, const std::string& sceneFile, const st
 bool povrayAvailable();
 /// Throws Error naming the Debian package when povray is not on PATH.
 void requirePovray();
+/// The version the povray program on PATH reports ("3.7.0.10.unofficial"),
+/// the one runPovray would run; nothing when there is none or it names none.
+std::optional<std::string> povrayVersion();
 
 } // namespace vfield
