@@ -3,6 +3,7 @@
 
 #include "test_meshes.h"
 
+#include <vfield/core/noise.h>
 #include <vfield/mesh/procedural.h>
 #include <vfield/render/embree/renderer.h>
 
@@ -234,6 +235,33 @@ TEST_CASE("reference: the fast integrator's single scattering is the reference's
     INFO("single scattering: fast " << single.fast << ", reference " << single.reference << " +- " << single.referenceError);
     // Within three standard errors, and 1% for the light grid's interpolation.
     CHECK(std::abs(single.fast - single.reference) < 3.0 * single.referenceError + 0.01 * single.reference);
+}
+
+TEST_CASE("reference: in a dense cloud with structure finer than the light grids, the fast single scattering is the "
+          "reference's, front-, side- and back-lit",
+          "[render][reference]")
+{
+    // A sphere of dense lumps and gaps a voxel or two across (sharper than the
+    // light grids' cells of two voxels): averaging its density over a cell
+    // before the exponential let through a seventh too much light.
+    const GradientNoise noise(5);
+    const openvdb::FloatGrid::Ptr lumpy = densityGrid(kCentre, kRadius + 0.5, 0.25, [&](const Vec3d& p) {
+        if ((p - kCentre).length() >= kRadius) return 0.0f;
+        return noise(float(p[0] * 1.7), float(p[1] * 1.7), float(p[2] * 1.7)) > 0.0f ? 3.0f : 0.1f;
+    });
+    const Vec3d camera(0, 8, 30);
+    for (const Vec3d& toSun : {Vec3d(0.3, 0.5, 1.0), Vec3d(1, 0.2, 0), Vec3d(0.3, 0.4, -1.0)}) {
+        FeatureScene scene(lumpy, false, camera, kCentre, toSun);
+        scene.settings.medium.extinction = 1.0;
+        scene.settings.medium.albedo = 0.9;
+        scene.settings.sky.intensity = 0.0;
+        scene.settings.integrator.multipleScattering.octaves = 1;
+        scene.settings.integrator.maxBounces = 1;
+        const Agreement single = compare(scene, chordThroughTheSphere, 64);
+        INFO("sun towards " << toSun << ": fast " << single.fast << ", reference " << single.reference << " +- "
+                            << single.referenceError);
+        CHECK(std::abs(single.fast - single.reference) < 3.0 * single.referenceError + 0.02 * single.reference);
+    }
 }
 
 TEST_CASE("reference: images are identical for 1 and 2 threads", "[render][reference]")

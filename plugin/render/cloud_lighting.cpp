@@ -111,10 +111,11 @@ CloudLighting::CloudLighting(openvdb::FloatGrid::ConstPtr density, const MediumS
                                                        latticePoints(extent, depthVoxelsPerCell * voxel), depthVoxelsPerCell));
 
     mSunInCloud = transmittanceTowards(coarse, mToSun);
+    mSunVisible = DenseGrid(mBounds.min(), coarse.spacing(), coarse.points(), 1.0f, 1.0f);
     if (sunBlocked) // zero where a surface blocks the sun
-        tbb::parallel_for(std::size_t(0), mSunInCloud.size(), [&](std::size_t n) {
-            const std::array<int, 3> ijk = mSunInCloud.point(n);
-            if (sunBlocked(mSunInCloud.position(ijk[0], ijk[1], ijk[2]), mToSun)) mSunInCloud[n] = 0.0f;
+        tbb::parallel_for(std::size_t(0), mSunVisible.size(), [&](std::size_t n) {
+            const std::array<int, 3> ijk = mSunVisible.point(n);
+            if (sunBlocked(mSunVisible.position(ijk[0], ijk[1], ijk[2]), mToSun)) mSunVisible[n] = 0.0f;
         });
     mSkyTransmittance = transmittanceTowards(coarse, Vec3d(0, 1, 0));
 }

@@ -174,6 +174,27 @@ double smoothstep01(double x)
     return t * t * (3.0 - 2.0 * t);
 }
 
+/// A fine voxel's density: the splat's density rho shaped by the detail's
+/// noise, amplitude x g (DetailStyle).
+double shapedDensity(DetailStyle style, double rho, float amplitudeTimesNoise, double softness, double inverseSoftness)
+{
+    const double ag = double(amplitudeTimesNoise);
+    switch (style) {
+    case DetailStyle::Erode:
+        // The noise scales the edge threshold rather than offsetting it, so a
+        // thin fringe is always eroded: no shell of faint density around the cloud.
+        return rho * std::max(0.0, 1.0 + 0.5 * ag) * smoothstep01(rho * inverseSoftness * (1.0 + ag));
+    case DetailStyle::Billows: {
+        // The edge's density: half the softness, but fading with the splat's
+        // in its faintest fringe, so that it is zero where the splat's
+        // support ends rather than a staircase along its voxels' faces.
+        const double edge = std::min(0.5 * softness, 8.0 * rho);
+        return std::max(rho, edge) * smoothstep01((rho * inverseSoftness + ag - 0.45) * 10.0);
+    }
+    }
+    return rho;
+}
+
 /// The density resampled on a grid `ratio` times finer and shaped by noise at
 /// the interpolated rest position. Each fine voxel is computed on its own, so
 /// the grid is the same for any thread count.
@@ -205,6 +226,10 @@ openvdb::FloatGrid::Ptr detailedDensity(const openvdb::FloatGrid& density, const
     double weightNorm = 0.0;
     for (const RestChannel& channel : channels) weightNorm += double(channel.weight) * double(channel.weight);
     const float inverseNorm = float(1.0 / std::sqrt(weightNorm));
+    // Billows: 2 billow - 1, lumps about [-1, 1] as fBm is.
+    const auto noiseAt = [&](const openvdb::Vec3f& p) {
+        return detail.style == DetailStyle::Billows ? 2.0f * billow(noise, p, fractal) - 1.0f : fbm(noise, p, fractal);
+    };
     using FineLeaf = openvdb::FloatTree::LeafNodeType;
     std::vector<std::vector<std::unique_ptr<FineLeaf>>> fineLeaves(coarseLeaves.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, coarseLeaves.size()), [&](const tbb::blocked_range<std::size_t>& range) {
@@ -225,15 +250,10 @@ openvdb::FloatGrid::Ptr detailedDensity(const openvdb::FloatGrid& density, const
                             if (!(rho > 0.0)) continue;
                             float g = 0.0f;
                             for (std::size_t r = 0; r < channels.size(); ++r)
-                                g += channels[r].weight *
-                                     fbm(noise,
-                                         openvdb::Vec3f(restAt[r].atIndex(coarseIndex)) * frequency + channels[r].noiseOffset,
-                                         fractal);
+                                g += channels[r].weight * noiseAt(openvdb::Vec3f(restAt[r].atIndex(coarseIndex)) * frequency +
+                                                                  channels[r].noiseOffset);
                             g *= inverseNorm;
-                            // The noise scales the edge threshold rather than offsetting it, so a
-                            // thin fringe is always eroded: no shell of faint density around the cloud.
-                            const double shaped = rho * std::max(0.0, 1.0 + 0.5 * double(amplitude * g)) *
-                                                  smoothstep01(rho * inverseSoftness * (1.0 + double(amplitude * g)));
+                            const double shaped = shapedDensity(detail.style, rho, amplitude * g, edgeSoftness, inverseSoftness);
                             if (!(shaped > 0.0)) continue;
                             std::unique_ptr<FineLeaf>& leaf = leaves[f & ~int32_t(FineLeaf::DIM - 1)];
                             if (!leaf) leaf = std::make_unique<FineLeaf>(f, 0.0f, false);

@@ -12,6 +12,20 @@
 
 namespace vfield {
 
+namespace {
+/// The march towards each light through the density: this many steps, each
+/// this much longer than the last (the first a quarter of a light-grid cell,
+/// all together about twelve cells). Measured on scenes/features/cumulus.json
+/// (160x90, single scattering against the reference at 256 samples per
+/// pixel, the sun 140, 90 and 30 degrees from the view): two cells left the
+/// fast integrator 1-7% dark, twelve within 1%.
+constexpr int kNearSteps = 8;
+constexpr double kNearGrowth = 1.5;
+/// Optical depth beyond which no light is left to reach a sample (e^-7 < 0.001).
+constexpr double kOpaqueDepth = 7.0;
+const Vec3d kUp(0.0, 1.0, 0.0); ///< towards the sky, as CloudLighting's sky grid
+} // namespace
+
 struct CloudVolume::EmptySpaceSkipper {
     using Intersector = openvdb::tools::VolumeRayIntersector<openvdb::FloatGrid>;
     explicit EmptySpaceSkipper(const openvdb::FloatGrid& grid)
@@ -33,6 +47,9 @@ CloudVolume::CloudVolume(const CloudLighting& lighting, const MediumSettings& me
         mOctaves.push_back(octave);
     }
     if (!lighting.empty() && integrator.skipEmptySpace) mSkipper = std::make_shared<EmptySpaceSkipper>(lighting.density());
+    if (lighting.empty()) return;
+    double step = 0.25 * lighting.lightGridSpacing();
+    for (int i = 0; i < kNearSteps; ++i, step *= kNearGrowth) mNearSteps.push_back(step);
 }
 
 double CloudVolume::surfaceSunTransmittance(const Vec3d& p) const
@@ -62,6 +79,25 @@ CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, d
     const openvdb::FloatGrid& densityGrid = mLighting.density();
     TrilinearSampler<openvdb::FloatTree> density(densityGrid.tree());
     const openvdb::math::Transform& densityTransform = densityGrid.transform();
+    // The light grids average the density over cells before the exponential
+    // and interpolate over a cell, while near a lit surface of a dense cloud
+    // the light changes within a mean free path, a fraction of a cell: they
+    // drew billows as blocks and streaks, and their single scattering was 12%
+    // too bright in a sphere of dense lumps (the mean density's exponential,
+    // Jensen's inequality) and 6-14% too dark in a billowed cumulus
+    // (tests/reference_integrator_test.cpp, README). So the way towards each
+    // light is marched through the density itself, in steps growing from a
+    // quarter of a cell, for about twelve cells or until no light is left,
+    // and the grid is read only beyond (CloudVolume::mNearSteps).
+    const auto lightThrough = [&](const Vec3d& p, const Vec3d& towards, const auto& gridBeyond) {
+        double opticalDepth = 0.0, s = 0.0;
+        for (const double ds : mNearSteps) {
+            opticalDepth += mExtinction * density.atIndex(densityTransform.worldToIndex(p + towards * (s + 0.5 * ds))) * ds;
+            s += ds;
+            if (opticalDepth > kOpaqueDepth) return 0.0f;
+        }
+        return float(std::exp(-opticalDepth) * gridBeyond(p + towards * s));
+    };
     // Sunlight travels along -toSun and leaves towards the origin along -dir:
     // the angle between the two is that between dir and toSun.
     std::array<double, 8> octavePhase{}; // MultipleScattering::octaves is at most 8
@@ -88,7 +124,9 @@ CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, d
             const double rho = density.atIndex(densityTransform.worldToIndex(p));
             if (rho <= 0.0) continue;
             const double stepTransmittance = std::exp(-mExtinction * rho * dt);
-            const float sunT = mLighting.sunInCloud(p), skyT = mLighting.skyTransmittance(p);
+            const float sunT = mLighting.sunVisible(p) *
+                               lightThrough(p, mLighting.toSun(), [&](const Vec3d&q) { return mLighting.sunInCloud(q); }),
+                        skyT = lightThrough(p, kUp, [&](const Vec3d&q) { return mLighting.skyTransmittance(q); });
             // In-scattered light of the step, integrated exactly for constant density:
             // (1 - e^(-sigma_t dt)) * albedo * source. The sky lights the cloud
             // through the cloud above it, so bases darken and tops stay bright.

@@ -51,10 +51,15 @@ public:
     /// shadow came out as nested squares of their size.
     double sunTransmittance(const Vec3d& p) const;
     /// What the cloud's own samples read, trilinearly from the light grids,
-    /// unclamped: the sun's transmittance through the cloud, zero where a
-    /// surface blocks the sun, and the sky's transmittance from above.
+    /// unclamped: the sun's transmittance through the cloud, the share of the
+    /// sun no surface blocks, and the sky's transmittance from above. A
+    /// renderer that marches the first cells towards a light itself reads the
+    /// transmittances beyond them, and sunVisible where the sample is.
     float sunInCloud(const Vec3d& p) const { return mSunInCloud.at(p); }
+    float sunVisible(const Vec3d& p) const { return mSunVisible.at(p); }
     float skyTransmittance(const Vec3d& p) const { return mSkyTransmittance.at(p); }
+    /// The light grids' distance between points, world units.
+    double lightGridSpacing() const { return mSunInCloud.spacing(); }
 
     /// Density x the sky's transmittance down to each voxel: where the cloud
     /// scatters the sky's light, and how much (same voxels as the density).
@@ -83,7 +88,7 @@ private:
     DenseGrid transmittanceTowards(const DenseGrid& coarse, const Vec3d& towards) const;
 
     openvdb::FloatGrid::ConstPtr mDensity;
-    DenseGrid mSunInCloud, mSkyTransmittance;
+    DenseGrid mSunInCloud, mSunVisible, mSkyTransmittance;
     SunDepth mSunDepth;
     BBoxd mBounds;
     Vec3d mToSun;

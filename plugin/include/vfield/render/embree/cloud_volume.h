@@ -54,6 +54,8 @@ private:
     };
     std::vector<Octave> mOctaves;
     double mExtinction, mAlbedo, mStep;
+    /// The steps of the march towards a light through the density, before its grid is read.
+    std::vector<double> mNearSteps;
 };
 
 } // namespace vfield
