@@ -5,7 +5,7 @@
 # each may include render's shared files, never the other room. Run as
 #   cmake -DPLUGIN_DIR=<plugin> -P check_layering.cmake
 # Each stage with its level; a file may include its own stage and lower levels.
-set(stages core:0 mesh:1 field:2 sim:3 volume:4 render:5 render/embree:6 render/povray:6 image:7 scene:8)
+set(stages core:0 mesh:1 field:2 sim:3 volume:4 render:5 render/embree:6 render/povray:6 image:7 scene:8 golden:9)
 
 foreach(entry ${stages})
   string(REPLACE ":" ";" pair "${entry}")

@@ -22,26 +22,14 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <sys/wait.h>
 #include <thread>
 
 #include <nlohmann/json.hpp>
 
 namespace {
 
-struct Run {
-    int exitCode;
-    std::string out, err;
-};
-
-/// Runs the vfield binary with arguments (a shell-quoted string).
-Run vfieldCli(const std::string& arguments, const std::string& dir)
-{
-    const std::string out = dir + "/stdout", err = dir + "/stderr";
-    const std::string command = std::string(VFIELD_CLI_PATH) + " " + arguments + " >" + out + " 2>" + err;
-    const int status = std::system(command.c_str());
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, vfield::test::readTextFile(out), vfield::test::readTextFile(err)};
-}
+using Run = vfield::test::CliRun;
+using vfield::test::runVfieldCli;
 
 int lineCount(const std::string& text) { return int(std::count(text.begin(), text.end(), '\n')); }
 
@@ -51,7 +39,7 @@ TEST_CASE("cli: probe prints the octree's force at each point", "[cli]")
 {
     const std::string dir = vfield::test::scratchDir("cli-probe");
     std::ofstream(dir + "/points.csv") << "x,y,z\n0.75,0.75,0.75\n\n# outside\n2,2,2\n";
-    const Run probe = vfieldCli(
+    const Run probe = runVfieldCli(
         "probe " + vfield::test::dataPath("cube_quads.obj") + " --margin 0 --points " + dir + "/points.csv --quiet", dir);
     INFO(probe.err);
     REQUIRE(probe.exitCode == 0);
@@ -64,16 +52,17 @@ TEST_CASE("cli: probe prints the octree's force at each point", "[cli]")
     // Split down to level 3, where the growths part: strength 3 x 3 x boost 10
     // (linear) against 3 x 2^(3 - 1) x 10 (doubling), along the diagonal.
     const auto probeAtLevel3 = [&](const std::string& growth) {
-        return vfieldCli("probe " + vfield::test::dataPath("cube_quads.obj") +
-                             " --margin 0 --max-per-leaf 1 --max-level 3 --strength 3 --growth " + growth + " --points " + dir +
-                             "/points.csv --quiet",
-                         dir)
+        return runVfieldCli("probe " + vfield::test::dataPath("cube_quads.obj") +
+                                " --margin 0 --max-per-leaf 1 --max-level 3 --strength 3 --growth " + growth + " --points " +
+                                dir + "/points.csv --quiet",
+                            dir)
             .out;
     };
     CHECK(probeAtLevel3("linear").find("0.75,0.75,0.75,51.961525,51.961525,51.961525,3,1\n") != std::string::npos);
     CHECK(probeAtLevel3("doubling").find("0.75,0.75,0.75,69.2820282,69.2820282,69.2820282,3,1\n") != std::string::npos);
-    CHECK(vfieldCli("probe " + vfield::test::dataPath("cube_quads.obj") + " --growth cubic --points " + dir + "/points.csv", dir)
-              .exitCode != 0);
+    CHECK(
+        runVfieldCli("probe " + vfield::test::dataPath("cube_quads.obj") + " --growth cubic --points " + dir + "/points.csv", dir)
+            .exitCode != 0);
 }
 
 TEST_CASE("cli: an inside-out mesh is oriented outward with a warning, and --flip-normals turns it", "[cli]")
@@ -81,7 +70,7 @@ TEST_CASE("cli: an inside-out mesh is oriented outward with a warning, and --fli
     // Every triangle of make-mesh's sphere reversed: its field pulled objects in
     // ((-4.9, -0.6, -0.7) at (1.15, 0, 0)).
     const std::string dir = vfield::test::scratchDir("cli-inside-out");
-    REQUIRE(vfieldCli("make-mesh sphere -o " + dir + "/sphere.obj -q", dir).exitCode == 0);
+    REQUIRE(runVfieldCli("make-mesh sphere -o " + dir + "/sphere.obj -q", dir).exitCode == 0);
     std::istringstream lines(vfield::test::readTextFile(dir + "/sphere.obj"));
     std::ofstream inverted(dir + "/inverted.obj");
     for (std::string line; std::getline(lines, line);) {
@@ -97,7 +86,7 @@ TEST_CASE("cli: an inside-out mesh is oriented outward with a warning, and --fli
     inverted.close();
     std::ofstream(dir + "/points.csv") << "1.15,0,0\n";
     const auto forceX = [&](const std::string& options, std::string* err = nullptr) {
-        const Run probe = vfieldCli("probe " + dir + "/inverted.obj --points " + dir + "/points.csv " + options, dir);
+        const Run probe = runVfieldCli("probe " + dir + "/inverted.obj --points " + dir + "/points.csv " + options, dir);
         REQUIRE(probe.exitCode == 0);
         if (err) *err = probe.err;
         // The second line, "x,y,z,fx,fy,fz,level,surface": its fourth value.
@@ -116,7 +105,7 @@ TEST_CASE("cli: a malformed points file is one error line naming the line", "[cl
 {
     const std::string dir = vfield::test::scratchDir("cli-bad-points");
     std::ofstream(dir + "/points.csv") << "1,2,3\n4,five,6\n";
-    const Run run = vfieldCli("probe " + vfield::test::dataPath("cube_quads.obj") + " --points " + dir + "/points.csv", dir);
+    const Run run = runVfieldCli("probe " + vfield::test::dataPath("cube_quads.obj") + " --points " + dir + "/points.csv", dir);
     CHECK(run.exitCode == 1);
     CHECK(run.err == "vfield probe: " + dir + "/points.csv: line 2: expected three numbers x,y,z\n");
 }
@@ -124,22 +113,22 @@ TEST_CASE("cli: a malformed points file is one error line naming the line", "[cl
 TEST_CASE("cli: a bad mesh is one error line and exit 1, bad usage is exit 2", "[cli]")
 {
     const std::string dir = vfield::test::scratchDir("cli-errors");
-    const Run missing = vfieldCli("bake-field " + dir + "/none.obj -o " + dir + "/f.vdb", dir);
+    const Run missing = runVfieldCli("bake-field " + dir + "/none.obj -o " + dir + "/f.vdb", dir);
     CHECK(missing.exitCode == 1);
     CHECK(missing.err == "vfield bake-field: " + dir + "/none.obj: no such file\n");
     CHECK_FALSE(std::filesystem::exists(dir + "/f.vdb"));
 
-    const Run unknown = vfieldCli("bake-field mesh.obj -o f.vdb --max-levle 3", dir);
+    const Run unknown = runVfieldCli("bake-field mesh.obj -o f.vdb --max-levle 3", dir);
     CHECK(unknown.exitCode == 2);
     CHECK(lineCount(unknown.err) == 1);
-    const Run none = vfieldCli("", dir);
+    const Run none = runVfieldCli("", dir);
     CHECK(none.exitCode == 2);
 }
 
 TEST_CASE("cli: --version prints vfield's version and those of the libraries it runs with", "[cli]")
 {
     const std::string dir = vfield::test::scratchDir("cli-version");
-    const Run run = vfieldCli("--version", dir);
+    const Run run = runVfieldCli("--version", dir);
     INFO(run.err);
     REQUIRE(run.exitCode == 0);
     const vfield::Versions versions = vfield::versions();
@@ -158,17 +147,17 @@ TEST_CASE("cli: every subcommand has help", "[cli]")
 {
     const std::string dir = vfield::test::scratchDir("cli-help");
     // The subcommands as the top-level help lists them, so a new one is covered.
-    const Run top = vfieldCli("--help", dir);
+    const Run top = runVfieldCli("--help", dir);
     REQUIRE(top.exitCode == 0);
     std::vector<std::string> commands;
     std::istringstream lines(top.out.substr(top.out.find("Subcommands:")));
     for (std::string line; std::getline(lines, line);)
         if (line.rfind("  ", 0) == 0) commands.push_back(line.substr(2, line.find(' ', 2) - 2));
-    CHECK(commands.size() == 16);
-    for (const char* name : {"compare", "metrics", "farm", "export-scene", "help", "verify", "silhouette"})
+    CHECK(commands.size() == 17);
+    for (const char* name : {"compare", "metrics", "farm", "export-scene", "help", "verify", "silhouette", "golden"})
         CHECK(std::find(commands.begin(), commands.end(), name) != commands.end());
     for (const std::string& command : commands) {
-        const Run help = vfieldCli(command + " --help", dir);
+        const Run help = runVfieldCli(command + " --help", dir);
         INFO(command);
         CHECK(help.exitCode == 0);
         CHECK(help.out.find("Usage") != std::string::npos);
@@ -178,18 +167,19 @@ TEST_CASE("cli: every subcommand has help", "[cli]")
 TEST_CASE("cli: make-mesh then bake-field then info and field-slice chain into files", "[cli]")
 {
     const std::string dir = vfield::test::scratchDir("cli-chain");
-    REQUIRE(vfieldCli("make-mesh -o " + dir + "/t.obj terrain --cells-x 32 --cells-z 32", dir).exitCode == 0);
-    REQUIRE(vfieldCli("bake-field " + dir + "/t.obj -o " + dir + "/a.vdb --max-level 6", dir).exitCode == 0);
-    REQUIRE(vfieldCli("bake-field " + dir + "/t.obj -o " + dir + "/b.vdb --max-level 6 -q", dir).exitCode == 0);
+    REQUIRE(runVfieldCli("make-mesh -o " + dir + "/t.obj terrain --cells-x 32 --cells-z 32", dir).exitCode == 0);
+    REQUIRE(runVfieldCli("bake-field " + dir + "/t.obj -o " + dir + "/a.vdb --max-level 6", dir).exitCode == 0);
+    REQUIRE(runVfieldCli("bake-field " + dir + "/t.obj -o " + dir + "/b.vdb --max-level 6 -q", dir).exitCode == 0);
 
-    const Run a = vfieldCli("info --checksum " + dir + "/a.vdb", dir), b = vfieldCli("info --checksum " + dir + "/b.vdb", dir);
+    const Run a = runVfieldCli("info --checksum " + dir + "/a.vdb", dir),
+              b = runVfieldCli("info --checksum " + dir + "/b.vdb", dir);
     REQUIRE(a.exitCode == 0);
     CHECK(lineCount(a.out) == 3);
     CHECK(a.out.rfind("force", 0) == 0);
     CHECK(a.out.find("vec3s") != std::string::npos);
     CHECK(a.out == b.out); // same contents, whatever the file ids
 
-    const Run slice = vfieldCli("field-slice " + dir + "/t.obj --axis x --at 0 --size 256 -o " + dir + "/s.png", dir);
+    const Run slice = runVfieldCli("field-slice " + dir + "/t.obj --axis x --at 0 --size 256 -o " + dir + "/s.png", dir);
     INFO(slice.err);
     CHECK(slice.exitCode == 0);
     CHECK(std::filesystem::file_size(dir + "/s.png") > 1000);
@@ -199,16 +189,16 @@ TEST_CASE("cli: a bad scene is one line naming the file and the JSON path", "[cl
 {
     const std::string dir = vfield::test::scratchDir("cli-bad-scene");
     std::ofstream(dir + "/s.json") << R"({"version": 1, "objects": [], "clouds": [{"count": -5}]})";
-    const Run run = vfieldCli("simulate " + dir + "/s.json -o " + dir + "/out", dir);
+    const Run run = runVfieldCli("simulate " + dir + "/s.json -o " + dir + "/out", dir);
     CHECK(run.exitCode == 1);
     CHECK(run.err == "vfield simulate: " + dir + "/s.json: /clouds/0/count: expected a positive integer, got -5\n");
     CHECK_FALSE(std::filesystem::exists(dir + "/out"));
-    const Run frames = vfieldCli("simulate " + dir + "/s.json -o " + dir + "/out --frames 9-3", dir);
+    const Run frames = runVfieldCli("simulate " + dir + "/s.json -o " + dir + "/out --frames 9-3", dir);
     CHECK(frames.exitCode == 2);
 
     // 100,000 nested arrays (200 kB) crashed the parser; now one line, exit 1, no output.
     std::ofstream(dir + "/deep.json") << std::string(100000, '[') << std::string(100000, ']');
-    const Run deep = vfieldCli("simulate " + dir + "/deep.json -o " + dir + "/out", dir);
+    const Run deep = runVfieldCli("simulate " + dir + "/deep.json -o " + dir + "/out", dir);
     CHECK(deep.exitCode == 1);
     CHECK(deep.err ==
           "vfield simulate: " + dir + "/deep.json: line 1, column 257: JSON nested deeper than 256 arrays and objects\n");
@@ -222,19 +212,19 @@ TEST_CASE("cli: a scene estimated beyond --max-memory is refused at once, naming
     // triangle, measured).
     const std::string dir = vfield::test::scratchDir("cli-max-memory");
     const std::string scene = std::string(VFIELD_SCENES_DIR) + "/cloud_over_terrain.json";
-    const Run big = vfieldCli("simulate " + scene + " -o " + dir +
-                                  "/out --set '/objects/0/mesh/terrain/cells=[8000,8000]' "
-                                  "--max-memory 4G",
-                              dir);
+    const Run big = runVfieldCli("simulate " + scene + " -o " + dir +
+                                     "/out --set '/objects/0/mesh/terrain/cells=[8000,8000]' "
+                                     "--max-memory 4G",
+                                 dir);
     CHECK(big.exitCode == 1);
     CHECK(big.err == "vfield simulate: " + scene +
                          ": /objects/0/mesh/terrain/cells: the scene needs about 14.5 GiB of memory, more than the limit "
                          "(4.0 GiB); 128096000 triangles here take 14.3 GiB (raise the limit with --max-memory)\n");
     CHECK_FALSE(std::filesystem::exists(dir + "/out"));
     // Raised past the estimate, the same limit lets the shipped scene through.
-    const Run shipped = vfieldCli("simulate " + scene + " -o " + dir + "/out --frames 1-1 --max-memory 512M --quiet", dir);
+    const Run shipped = runVfieldCli("simulate " + scene + " -o " + dir + "/out --frames 1-1 --max-memory 512M --quiet", dir);
     CHECK(shipped.exitCode == 0);
-    CHECK(vfieldCli("simulate " + scene + " -o " + dir + "/out --max-memory 12Q", dir).exitCode == 2);
+    CHECK(runVfieldCli("simulate " + scene + " -o " + dir + "/out --max-memory 12Q", dir).exitCode == 2);
 }
 
 TEST_CASE("cli: a mesh file too large for the machine is refused before it is read", "[cli]")
@@ -246,7 +236,7 @@ TEST_CASE("cli: a mesh file too large for the machine is refused before it is re
     std::ofstream(dir + "/huge.obj").close();
     std::filesystem::resize_file(dir + "/huge.obj", 64ull << 30);
     std::ofstream(dir + "/points.csv") << "0,0,0\n";
-    const Run run = vfieldCli("probe " + dir + "/huge.obj --points " + dir + "/points.csv", dir);
+    const Run run = runVfieldCli("probe " + dir + "/huge.obj --points " + dir + "/points.csv", dir);
     CHECK(run.exitCode == 1);
     CHECK(lineCount(run.err) == 1);
     CHECK_THAT(run.err, Catch::StartsWith("vfield probe: " + dir + "/huge.obj: loading it and building its field needs about "));
@@ -254,7 +244,8 @@ TEST_CASE("cli: a mesh file too large for the machine is refused before it is re
     std::filesystem::remove_all(dir);
 }
 
-TEST_CASE("cli: simulate writes frames and progress and export-mesh places objects", "[cli]")
+TEST_CASE("cli: simulate writes frames, tells each step before them and each frame with an ETA, and export-mesh places objects",
+          "[cli]")
 {
     const std::string dir = vfield::test::scratchDir("cli-simulate");
     std::ofstream(dir + "/s.json") << R"({"version": 1, "frames": {"start": 1, "end": 4, "fps": 24},
@@ -264,24 +255,31 @@ TEST_CASE("cli: simulate writes frames and progress and export-mesh places objec
                    "motion": "dynamic", "velocity": [0, 0, -10], "transform": {"translate": [0, 5, 0]}}],
       "clouds": [{"count": 500, "center": [0, 6, 0], "radius": 2}],
       "fields": [{"acceleration": [0, -9.81, 0]}]})";
-    const Run run = vfieldCli("simulate " + dir + "/s.json -o " + dir + "/out --frames 2-4", dir);
+    const Run run = runVfieldCli("simulate " + dir + "/s.json -o " + dir + "/out --frames 2-4", dir);
     INFO(run.err);
     REQUIRE(run.exitCode == 0);
     CHECK(run.err.find("frame 4/4") != std::string::npos); // plain progress lines when not a terminal
+    CHECK(run.err.find("ETA ") != std::string::npos);
+    // What it prepares before the first frame is told as it starts, in order.
+    const std::size_t field = run.err.find("preparing: ground: octree field of 12 triangles"),
+                      distance = run.err.find("preparing: ground: exact distance field 99%"),
+                      firstFrame = run.err.find("frame 1/4");
+    CHECK(field < distance);
+    CHECK(distance < firstFrame);
     CHECK(run.err.find("clearance of particles: min") != std::string::npos);
     for (const char* name :
          {"field.vdb", "density.0002.vdb", "density.0004.vdb", "particles.0004.vdb", "tracks.json", "stats.json"})
         CHECK(std::filesystem::exists(dir + "/out/" + name));
     CHECK_FALSE(std::filesystem::exists(dir + "/out/density.0001.vdb"));
 
-    const Run quiet = vfieldCli("simulate " + dir + "/s.json -o " + dir + "/out2 --quiet", dir);
+    const Run quiet = runVfieldCli("simulate " + dir + "/s.json -o " + dir + "/out2 --quiet", dir);
     CHECK(quiet.err.empty());
 
-    REQUIRE(vfieldCli("export-mesh " + dir + "/s.json --object ground -o " + dir + "/g.obj", dir).exitCode == 0);
+    REQUIRE(runVfieldCli("export-mesh " + dir + "/s.json --object ground -o " + dir + "/g.obj", dir).exitCode == 0);
     CHECK(vfield::test::readTextFile(dir + "/g.obj").find("v -20 -3 -20") != std::string::npos); // world space
-    REQUIRE(vfieldCli("export-mesh " + dir + "/s.json --object dart --frame 4 --sim " + dir + "/out -o " + dir + "/d.obj", dir)
+    REQUIRE(runVfieldCli("export-mesh " + dir + "/s.json --object dart --frame 4 --sim " + dir + "/out -o " + dir + "/d.obj", dir)
                 .exitCode == 0);
-    const Run missing = vfieldCli("export-mesh " + dir + "/s.json --object plane -o " + dir + "/p.obj", dir);
+    const Run missing = runVfieldCli("export-mesh " + dir + "/s.json --object plane -o " + dir + "/p.obj", dir);
     CHECK(missing.exitCode == 1);
     CHECK(missing.err == "vfield export-mesh: " + dir + "/s.json: no object named \"plane\"\n");
 }
@@ -294,13 +292,13 @@ TEST_CASE("cli: render refuses bad simulations with one line and writes no image
       "clouds": [{"count": 300, "center": [0, 6, 0], "radius": 2}],
       "camera": {"position": [0, 10, 40], "lookAt": [0, 2, 0]}, "render": {"resolution": [64, 36], "samplesPerPixel": 1}})";
     const auto render = [&](const std::string& sim) {
-        return vfieldCli("render " + dir + "/s.json --sim " + sim + " -o " + dir + "/img --frames 2", dir);
+        return runVfieldCli("render " + dir + "/s.json --sim " + sim + " -o " + dir + "/img --frames 2", dir);
     };
     const Run noSim = render(dir + "/none");
     CHECK(noSim.exitCode == 1);
     CHECK(noSim.err == "vfield render: " + dir + "/none: no such simulation folder\n");
 
-    REQUIRE(vfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim -q", dir).exitCode == 0);
+    REQUIRE(runVfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim -q", dir).exitCode == 0);
     const Run good = render(dir + "/sim");
     INFO(good.err);
     CHECK(good.exitCode == 0);
@@ -318,8 +316,8 @@ TEST_CASE("cli: render refuses bad simulations with one line and writes no image
     CHECK(render(dir + "/sim").err.find("rendered 1 frame") != std::string::npos);
     // A frame rendered with other settings is rendered again, then kept.
     const auto renderAt = [&](const std::string& size) {
-        return vfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/img --frames 2 --resolution " + size,
-                         dir);
+        return runVfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/img --frames 2 --resolution " + size,
+                            dir);
     };
     CHECK(renderAt("32x18").err.find("rendered 1 frame") != std::string::npos);
     CHECK(renderAt("32x18").err.find("skipped 1") != std::string::npos);
@@ -352,8 +350,8 @@ TEST_CASE("cli: render refuses bad simulations with one line and writes no image
     CHECK_FALSE(std::filesystem::exists(dir + "/img/frame.0002.png"));
 
     // A frame of another simulation (another seed) is refused, named.
-    REQUIRE(vfieldCli("simulate " + dir + "/s.json -o " + dir + "/other --set /seed=7 -q", dir).exitCode == 0);
-    REQUIRE(vfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim -q", dir).exitCode == 0);
+    REQUIRE(runVfieldCli("simulate " + dir + "/s.json -o " + dir + "/other --set /seed=7 -q", dir).exitCode == 0);
+    REQUIRE(runVfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim -q", dir).exitCode == 0);
     std::filesystem::copy_file(dir + "/other/density.0002.vdb", dir + "/sim/density.0002.vdb",
                                std::filesystem::copy_options::overwrite_existing);
     const Run foreign = render(dir + "/sim");
@@ -369,9 +367,9 @@ TEST_CASE("cli: verify names a folder's frames that are missing, made by another
     std::ofstream(dir + "/s.json") << R"({"version": 1, "frames": {"start": 1, "end": 4, "fps": 24},
       "objects": [{"name": "ground", "mesh": {"box": {"min": [-20, -2, -20], "max": [20, 0, 20]}}}],
       "clouds": [{"count": 300, "center": [0, 6, 0], "radius": 2}]})";
-    REQUIRE(vfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim -q", dir).exitCode == 0);
-    REQUIRE(vfieldCli("simulate " + dir + "/s.json -o " + dir + "/other --set /seed=7 -q", dir).exitCode == 0);
-    const Run clean = vfieldCli("verify " + dir + "/sim", dir);
+    REQUIRE(runVfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim -q", dir).exitCode == 0);
+    REQUIRE(runVfieldCli("simulate " + dir + "/s.json -o " + dir + "/other --set /seed=7 -q", dir).exitCode == 0);
+    const Run clean = runVfieldCli("verify " + dir + "/sim", dir);
     CHECK(clean.exitCode == 0);
     CHECK(clean.out.empty());
     CHECK(clean.err.find("4 frames recorded, 4 good, 0 missing, 0 foreign, 0 corrupt") != std::string::npos);
@@ -380,7 +378,7 @@ TEST_CASE("cli: verify names a folder's frames that are missing, made by another
     std::filesystem::copy_file(dir + "/other/particles.0003.vdb", dir + "/sim/particles.0003.vdb",
                                std::filesystem::copy_options::overwrite_existing);
     std::ofstream(dir + "/sim/density.0004.vdb", std::ios::app) << "trailing bytes";
-    const Run damaged = vfieldCli("verify " + dir + "/sim", dir);
+    const Run damaged = runVfieldCli("verify " + dir + "/sim", dir);
     CHECK(damaged.exitCode == 1);
     CHECK(damaged.out.find("frame 2: missing: " + dir + "/sim/density.0002.vdb is missing\n") != std::string::npos);
     CHECK(damaged.out.find("frame 3: foreign: " + dir + "/sim/particles.0003.vdb was made by another simulation") !=
@@ -429,7 +427,7 @@ TEST_CASE("cli: one writer per folder: a second simulate or render is refused at
 
     // The issue's second run: another seed, a few frames, into the same folder.
     const auto start = std::chrono::steady_clock::now();
-    const Run second = vfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim --set /clouds/0/seed=99 --frames 1-5", dir);
+    const Run second = runVfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim --set /clouds/0/seed=99 --frames 1-5", dir);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     CHECK(second.exitCode == 1);
     CHECK(lineCount(second.err) == 1);
@@ -440,7 +438,7 @@ TEST_CASE("cli: one writer per folder: a second simulate or render is refused at
 
     // Killed, its lock is gone with it: the next run resumes where it stopped.
     killAndWait(first);
-    const Run third = vfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim --frames 1-12", dir);
+    const Run third = runVfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim --frames 1-12", dir);
     INFO(third.err);
     CHECK(third.exitCode == 0);
     CHECK(third.err.find("resumed after frame") != std::string::npos);
@@ -449,13 +447,13 @@ TEST_CASE("cli: one writer per folder: a second simulate or render is refused at
     const pid_t rendering = startHolding("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir +
                                              "/img --frames 1-12 --resolution 480x270 --spp 16",
                                          dir + "/img", dir);
-    const Run refused = vfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/img --frames 1-2", dir);
+    const Run refused = runVfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/img --frames 1-2", dir);
     CHECK(refused.exitCode == 1);
     CHECK(refused.err.find(dir + "/img: another vfield is writing here (vfield render, pid " + std::to_string(rendering)) !=
           std::string::npos);
-    const Run waited = vfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir +
-                                     "/img --frames 1-2 --resolution 480x270 --spp 16 --wait",
-                                 dir);
+    const Run waited = runVfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir +
+                                        "/img --frames 1-2 --resolution 480x270 --spp 16 --wait",
+                                    dir);
     CHECK(waited.exitCode == 0);
     CHECK(waited.err.find(dir + "/img: waiting for vfield render, pid " + std::to_string(rendering)) != std::string::npos);
     CHECK(waited.err.find("skipped 2 already complete") != std::string::npos); // the holder rendered them meanwhile
@@ -468,19 +466,20 @@ TEST_CASE("cli: render --backend povray and both write their images, and --keep-
       "objects": [{"name": "ground", "mesh": {"box": {"min": [-20, -2, -20], "max": [20, 0, 20]}}}],
       "clouds": [{"count": 300, "center": [0, 6, 0], "radius": 2}],
       "camera": {"position": [0, 10, 40], "lookAt": [0, 2, 0]}, "render": {"resolution": [48, 27], "samplesPerPixel": 1}})";
-    REQUIRE(vfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim -q", dir).exitCode == 0);
+    REQUIRE(runVfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim -q", dir).exitCode == 0);
 
-    const Run pov = vfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/pov --backend povray -q", dir);
+    const Run pov = runVfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/pov --backend povray -q", dir);
     INFO(pov.err);
     REQUIRE(pov.exitCode == 0);
     for (const char* frame : {"/pov/frame.0001.png", "/pov/frame.0002.png"}) CHECK(std::filesystem::exists(dir + frame));
     CHECK_FALSE(std::filesystem::exists(dir + "/pov/povray-scene")); // scene files removed
 
-    const Run both = vfieldCli(
+    const Run both = runVfieldCli(
         "render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/both --backend both --keep-scene --frames 2", dir);
     INFO(both.err);
     REQUIRE(both.exitCode == 0);
     CHECK(both.err.find("(povray / embree = ") != std::string::npos);
+    CHECK(both.err.find("frame 0/1  (rendering frame 2: 0%)") != std::string::npos); // before its first pixel
     // What POV-Ray cannot draw is said once, before the frames.
     CHECK(both.err.find("warning: povray cannot draw light scattered more than once (render.multipleScattering)") !=
           std::string::npos);
@@ -494,7 +493,7 @@ TEST_CASE("cli: render --backend povray and both write their images, and --keep-
     CHECK(sideBySide.spec().height == 27);
 
     const Run exr =
-        vfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/exr --backend povray --format exr", dir);
+        runVfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/exr --backend povray --format exr", dir);
     CHECK(exr.exitCode == 1);
     CHECK(exr.err == "vfield render: the POV-Ray back-end writes png images only\n");
 }
@@ -514,7 +513,7 @@ TEST_CASE("cli: compare follows idiff's thresholds and exits 0 pass, 1 fail, 2 e
     };
     write("a.exr", 0.0f, 0.0f);
     write("b.exr", 0.1f, 0.01f);
-    const auto compare = [&](const std::string& arguments) { return vfieldCli("compare " + arguments, dir); };
+    const auto compare = [&](const std::string& arguments) { return runVfieldCli("compare " + arguments, dir); };
 
     const Run same = compare(dir + "/a.exr " + dir + "/a.exr");
     CHECK(same.exitCode == 0);
@@ -563,7 +562,7 @@ TEST_CASE("cli: --set changes scene values and names a bad override", "[cli][sce
       "objects": [{"name": "ground", "mesh": {"box": {"min": [-20, -2, -20], "max": [20, 0, 20]}}}],
       "clouds": [{"count": 300, "center": [0, 6, 0], "radius": 2}]})";
     const auto simulate = [&](const std::string& set) {
-        return vfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim " + set, dir);
+        return runVfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim " + set, dir);
     };
     REQUIRE(simulate("--set /clouds/0/count=120 -q").exitCode == 0);
     CHECK(vfield::test::readTextFile(dir + "/sim/stats.json").find("\"alive\": 120,") != std::string::npos);
@@ -581,19 +580,21 @@ TEST_CASE("cli: shorthands are --set of a documented pointer, checked with the s
     std::ofstream(dir + "/s.json") << R"({"version": 1, "frames": {"start": 1, "end": 1, "fps": 24},
       "objects": [{"name": "ground", "mesh": {"box": {"min": [-20, -2, -20], "max": [20, 0, 20]}}}],
       "clouds": [{"count": 50, "center": [0, 6, 0], "radius": 2}], "render": {"resolution": [32, 18], "samplesPerPixel": 1}})";
-    const Run simulated = vfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim --repulsion-method distance -q", dir);
+    const Run simulated = runVfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim --repulsion-method distance -q", dir);
     REQUIRE(simulated.exitCode == 0);
     CHECK(vfield::test::readTextFile(dir + "/sim/stats.json").find("\"method\": \"distance\"") != std::string::npos);
-    CHECK(vfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim --repulsion-method sdf", dir).exitCode == 2);
+    CHECK(runVfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim --repulsion-method sdf", dir).exitCode == 2);
     // --spp 0 is /render/samplesPerPixel's error, named as the scene's.
-    const Run zero = vfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/img --spp 0", dir);
+    const Run zero = runVfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/img --spp 0", dir);
     CHECK(zero.exitCode == 1);
     CHECK(zero.err == "vfield render: " + dir + "/s.json: /render/samplesPerPixel: expected a positive integer, got 0\n");
-    const Run size = vfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/img --resolution 20000x10", dir);
+    const Run size =
+        runVfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/img --resolution 20000x10", dir);
     CHECK(size.err.find("/render/resolution/0: expected a positive integer of at most 16384") != std::string::npos);
-    CHECK(vfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/img --resolution 20x", dir).exitCode == 2);
-    REQUIRE(vfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/img --resolution 24x12 -q", dir).exitCode ==
-            0);
+    CHECK(runVfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/img --resolution 20x", dir).exitCode == 2);
+    REQUIRE(
+        runVfieldCli("render " + dir + "/s.json --sim " + dir + "/sim -o " + dir + "/img --resolution 24x12 -q", dir).exitCode ==
+        0);
     OIIO::ImageBuf image(dir + "/img/frame.0001.png");
     CHECK(image.spec().width == 24);
 }
@@ -606,27 +607,27 @@ TEST_CASE("cli: --scene and --object draw an object's field as the scene makes i
                                           vfield::test::dataPath("cube_quads.obj") + R"("},
        "repulsion": {"margin": 0, "maxPerLeaf": 1, "maxLevel": 3, "strength": 3, "growth": "doubling"}}]})";
     std::ofstream(dir + "/points.csv") << "0.75,0.75,0.75\n";
-    const Run fromScene = vfieldCli("probe --scene " + dir + "/s.json --object cube --points " + dir + "/points.csv -q", dir);
-    const Run fromFlags = vfieldCli("probe " + vfield::test::dataPath("cube_quads.obj") +
-                                        " --margin 0 --max-per-leaf 1 --max-level 3 --strength 3 --growth doubling --points " +
-                                        dir + "/points.csv -q",
-                                    dir);
+    const Run fromScene = runVfieldCli("probe --scene " + dir + "/s.json --object cube --points " + dir + "/points.csv -q", dir);
+    const Run fromFlags = runVfieldCli("probe " + vfield::test::dataPath("cube_quads.obj") +
+                                           " --margin 0 --max-per-leaf 1 --max-level 3 --strength 3 --growth doubling --points " +
+                                           dir + "/points.csv -q",
+                                       dir);
     INFO(fromScene.err);
     REQUIRE(fromScene.exitCode == 0);
     CHECK(fromScene.out == fromFlags.out);
     CHECK(fromScene.out.find("69.2820282") != std::string::npos);
     // A flag changes the scene's value, checked as the scene's.
     const Run linear =
-        vfieldCli("probe --scene " + dir + "/s.json --object cube --growth linear --points " + dir + "/points.csv -q", dir);
+        runVfieldCli("probe --scene " + dir + "/s.json --object cube --growth linear --points " + dir + "/points.csv -q", dir);
     CHECK(linear.out.find("51.961525") != std::string::npos);
     const Run deep =
-        vfieldCli("probe --scene " + dir + "/s.json --object cube --max-level 30 --points " + dir + "/points.csv", dir);
+        runVfieldCli("probe --scene " + dir + "/s.json --object cube --max-level 30 --points " + dir + "/points.csv", dir);
     CHECK(deep.err ==
           "vfield probe: " + dir + "/s.json: /objects/0/repulsion/maxLevel: expected a positive integer of at most 20, got 30\n");
-    CHECK(vfieldCli("probe --scene " + dir + "/s.json --object sphere --points " + dir + "/points.csv", dir)
+    CHECK(runVfieldCli("probe --scene " + dir + "/s.json --object sphere --points " + dir + "/points.csv", dir)
               .err.find("no object named \"sphere\" (its objects: cube)") != std::string::npos);
-    CHECK(vfieldCli("probe --scene " + dir + "/s.json --points " + dir + "/points.csv", dir).exitCode == 2);
-    CHECK(vfieldCli("probe --points " + dir + "/points.csv", dir).exitCode == 2);
+    CHECK(runVfieldCli("probe --scene " + dir + "/s.json --points " + dir + "/points.csv", dir).exitCode == 2);
+    CHECK(runVfieldCli("probe --points " + dir + "/points.csv", dir).exitCode == 2);
 }
 
 TEST_CASE("cli: tracks.json's matrix places the object-space export where --frame places it", "[cli]")
@@ -635,10 +636,11 @@ TEST_CASE("cli: tracks.json's matrix places the object-space export where --fram
     // host placed the unscaled export 1.43 times too large.
     const std::string dir = vfield::test::scratchDir("cli-tracks-matrix");
     const std::string scene = std::string(VFIELD_SCENES_DIR) + "/canyon_flythrough.json";
-    REQUIRE(vfieldCli("simulate " + scene + " -o " + dir + "/sim --frames 1-3 -q", dir).exitCode == 0);
-    REQUIRE(vfieldCli("export-mesh " + scene + " --object airplane -o " + dir + "/object.obj", dir).exitCode == 0);
-    REQUIRE(vfieldCli("export-mesh " + scene + " --object airplane --frame 3 --sim " + dir + "/sim -o " + dir + "/world.obj", dir)
-                .exitCode == 0);
+    REQUIRE(runVfieldCli("simulate " + scene + " -o " + dir + "/sim --frames 1-3 -q", dir).exitCode == 0);
+    REQUIRE(runVfieldCli("export-mesh " + scene + " --object airplane -o " + dir + "/object.obj", dir).exitCode == 0);
+    REQUIRE(
+        runVfieldCli("export-mesh " + scene + " --object airplane --frame 3 --sim " + dir + "/sim -o " + dir + "/world.obj", dir)
+            .exitCode == 0);
     const nlohmann::json tracks = nlohmann::json::parse(vfield::test::readTextFile(dir + "/sim/tracks.json"));
     CHECK(tracks.at("convention").get<std::string>().find("for column vectors") != std::string::npos);
     const nlohmann::json& entry = tracks.at("objects").at("airplane").at(2);
@@ -683,7 +685,7 @@ TEST_CASE("cli: a heightmap with holes or absurd heights is refused at once, nam
           "objects": [{"name": "dem", "mesh": {"heightmap": {"file": ")" +
                                               file + R"(", "size": [40, 40], "heightScale": 60)" + extra + R"(}}}],
           "clouds": [{"count": 100, "center": [0, 90, 0], "radius": 3}]})";
-        return vfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim-" + file + " -q", dir);
+        return runVfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim-" + file + " -q", dir);
     };
     const Run holes = simulate("holes.exr", "");
     CHECK(holes.exitCode == 1);
@@ -717,7 +719,7 @@ TEST_CASE("cli: silhouette measures the outline of what a frame brightens agains
     write("cloud.png", true, 256);
     write("wide.png", false, 300);
 
-    const Run disk = vfieldCli("silhouette " + dir + "/cloud.png " + dir + "/clear.png", dir);
+    const Run disk = runVfieldCli("silhouette " + dir + "/cloud.png " + dir + "/clear.png", dir);
     REQUIRE(disk.exitCode == 0);
     INFO(disk.out);
     double dimension = 0.0, percent = 0.0;
@@ -725,7 +727,7 @@ TEST_CASE("cli: silhouette measures the outline of what a frame brightens agains
     CHECK(dimension == Approx(1.0).margin(0.06));
     CHECK(percent == Approx(100.0 * M_PI * 60 * 60 / (256 * 256)).epsilon(0.02));
 
-    const Run mismatched = vfieldCli("silhouette " + dir + "/cloud.png " + dir + "/wide.png", dir);
+    const Run mismatched = runVfieldCli("silhouette " + dir + "/cloud.png " + dir + "/wide.png", dir);
     CHECK(mismatched.exitCode != 0);
     CHECK(mismatched.err.find("cloud.png is 256x256 but " + dir + "/wide.png is 300x256") != std::string::npos);
     CHECK(lineCount(mismatched.err) == 1);
@@ -740,12 +742,12 @@ TEST_CASE("cli: a lone cumulus's billowed surface measures as real clouds do, ro
     const std::string scene = std::string(VFIELD_SCENES_DIR) + "/features/cumulus.json";
     const auto dimensionOf = [&](const std::string& name, const std::string& sets) {
         const std::string out = dir + "/" + name;
-        REQUIRE(vfieldCli("run " + scene + " -o " + out + " --resolution 320x180 -q " + sets, dir).exitCode == 0);
-        REQUIRE(vfieldCli("render " + scene + " --sim " + out + "/sim -o " + out + "/clear --frames 2 --resolution 320x180 -q " +
-                              "--set /render/extinction=0 " + sets,
-                          dir)
+        REQUIRE(runVfieldCli("run " + scene + " -o " + out + " --resolution 320x180 -q " + sets, dir).exitCode == 0);
+        REQUIRE(runVfieldCli("render " + scene + " --sim " + out + "/sim -o " + out +
+                                 "/clear --frames 2 --resolution 320x180 -q " + "--set /render/extinction=0 " + sets,
+                             dir)
                     .exitCode == 0);
-        const Run measure = vfieldCli("silhouette " + out + "/frame.0002.png " + out + "/clear/frame.0002.png", dir);
+        const Run measure = runVfieldCli("silhouette " + out + "/frame.0002.png " + out + "/clear/frame.0002.png", dir);
         REQUIRE(measure.exitCode == 0);
         INFO(measure.out);
         double dimension = 0.0, percent = 0.0;

@@ -21,6 +21,7 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -282,6 +283,27 @@ TEST_CASE("povray: a missing povray names the package, and a failing scene carri
         CHECK(message.find('\n') == std::string::npos);
     }
     CHECK_FALSE(fs::exists(dir + "/out.png"));
+}
+
+TEST_CASE("povray: the fraction of pixels POV-Ray reports rendered is told while it renders, never shrinking", "[povray]")
+{
+    const std::string dir = test::scratchDir("povray-progress");
+    // A sphere supersampled 9 x 9 on one thread: about a second and a half.
+    writeTextAtomically(dir + "/sphere.pov", "#version 3.7;\ncamera { location <0, 0, -5> look_at 0 }\n"
+                                             "light_source { <10, 10, -10> color rgb 1 }\n"
+                                             "sphere { 0, 1 pigment { color rgb 1 } }\n");
+    ImageSettings image;
+    image.width = 320;
+    image.height = 240;
+    image.samplesPerPixel = 81;
+    std::vector<double> told;
+    runPovray(dir, "sphere.pov", "sphere.png", image, PovrayQuality::Final, 1,
+              [&](double fraction) { told.push_back(fraction); });
+    REQUIRE_FALSE(told.empty());
+    CHECK(std::is_sorted(told.begin(), told.end()));
+    CHECK(told.front() >= 0.0);
+    CHECK(told.back() > 0.0);
+    CHECK(told.back() <= 1.0);
 }
 
 TEST_CASE("povray: a forward-scattering box agrees with vfield's within 10%, towards and away from the sun", "[povray]")

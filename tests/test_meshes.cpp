@@ -1,8 +1,10 @@
 #include "test_meshes.h"
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <sys/wait.h>
 #include <unistd.h>
 
 namespace vfield::test {
@@ -47,6 +49,14 @@ std::string readTextFile(const std::string& path)
     std::stringstream text;
     text << in.rdbuf();
     return text.str();
+}
+
+CliRun runVfieldCli(const std::string& arguments, const std::string& dir)
+{
+    const std::string out = dir + "/stdout", err = dir + "/stderr";
+    const std::string command = std::string(VFIELD_CLI_PATH) + " " + arguments + " >" + out + " 2>" + err;
+    const int status = std::system(command.c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, readTextFile(out), readTextFile(err)};
 }
 
 } // namespace vfield::test

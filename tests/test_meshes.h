@@ -1,5 +1,6 @@
 #pragma once
-// Small meshes with hand-computable fields, shared by the tests.
+// Small meshes with hand-computable fields, and the files and runs of the
+// vfield command that the tests share.
 
 #include <vfield/mesh/triangle_mesh.h>
 
@@ -22,5 +23,14 @@ std::string scratchDir(const std::string& name);
 
 /// A file's whole contents (empty if it cannot be read).
 std::string readTextFile(const std::string& path);
+
+/// What a run of the vfield command gave.
+struct CliRun {
+    int exitCode;
+    std::string out, err;
+};
+/// Runs the vfield binary with arguments (a shell-quoted string); its output
+/// goes through dir/stdout and dir/stderr.
+CliRun runVfieldCli(const std::string& arguments, const std::string& dir);
 
 } // namespace vfield::test

@@ -12,6 +12,7 @@
 #include <openvdb/tree/LeafManager.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 namespace vfield {
@@ -119,7 +120,7 @@ private:
 /// the voxel and the level a distance maps to.
 class GridRepulsion final : public RepulsionField {
 public:
-    GridRepulsion(const TriangleMesh& mesh, const RepulsionOptions& options, const Vec3d& wind);
+    GridRepulsion(const TriangleMesh& mesh, const RepulsionOptions& options, const Vec3d& wind, const Progress& progress);
 
 private:
     /// The level of an octree cell about as large as the distance d (at most d, at least a voxel).
@@ -132,14 +133,16 @@ private:
     openvdb::MaskGrid::Ptr rootMask() const;
     openvdb::FloatGrid::Ptr signedDistance(const TriangleMesh& mesh, double exteriorVoxels, double interiorVoxels) const;
     void buildDistance(const TriangleMesh& mesh);
-    void buildPotentialFlow(const TriangleMesh& mesh, const Vec3d& wind);
+    void buildPotentialFlow(const TriangleMesh& mesh, const Vec3d& wind, const Progress& progress);
 
     RepulsionOptions mOptions;
     double mMargin = 0.0, mVoxel = 0.0;
     openvdb::math::Transform::Ptr mTransform;
 };
 
-GridRepulsion::GridRepulsion(const TriangleMesh& mesh, const RepulsionOptions& options, const Vec3d& wind) : mOptions(options)
+GridRepulsion::GridRepulsion(const TriangleMesh& mesh, const RepulsionOptions& options, const Vec3d& wind,
+                             const Progress& progress)
+    : mOptions(options)
 {
     mMethod = options.method;
     BBoxd box;
@@ -159,7 +162,7 @@ GridRepulsion::GridRepulsion(const TriangleMesh& mesh, const RepulsionOptions& o
     mDepth = 1 + int(std::ceil(std::log2(mSide / mVoxel) - 1e-9));
     mTransform = openvdb::math::Transform::createLinearTransform(mVoxel);
     if (mMethod == RepulsionMethod::Distance) buildDistance(mesh);
-    else buildPotentialFlow(mesh, wind);
+    else buildPotentialFlow(mesh, wind, progress);
     mForce->setName("force");
     mForce->setVectorType(openvdb::VEC_CONTRAVARIANT_RELATIVE);
     mLevel->setName("level");
@@ -231,7 +234,31 @@ void GridRepulsion::buildDistance(const TriangleMesh& mesh)
     openvdb::tools::pruneInactive(mLevel->tree());
 }
 
-void GridRepulsion::buildPotentialFlow(const TriangleMesh& mesh, const Vec3d& wind)
+/// OpenVDB's interrupter interface for its solvers, never interrupting: the
+/// conjugate gradient asks once per iteration, which is told about once a second.
+class IterationCounter final : public openvdb::util::NullInterrupter {
+public:
+    IterationCounter(const RepulsionField::Progress& progress, int maxIterations)
+        : mProgress(progress), mMax(maxIterations), mLastTold(std::chrono::steady_clock::now())
+    {}
+    bool wasInterrupted(int = -1) override
+    {
+        ++mIterations;
+        const auto now = std::chrono::steady_clock::now();
+        if (mProgress && now - mLastTold >= std::chrono::seconds(1)) {
+            mLastTold = now;
+            mProgress("potential flow: iteration " + std::to_string(mIterations) + " of at most " + std::to_string(mMax));
+        }
+        return false;
+    }
+
+private:
+    const RepulsionField::Progress& mProgress;
+    int mMax, mIterations = 0;
+    std::chrono::steady_clock::time_point mLastTold;
+};
+
+void GridRepulsion::buildPotentialFlow(const TriangleMesh& mesh, const Vec3d& wind, const Progress& progress)
 {
     // A thin level set: OpenVDB takes its exterior band as the solid's
     // boundary, where the flow must not pass through.
@@ -256,7 +283,9 @@ void GridRepulsion::buildPotentialFlow(const TriangleMesh& mesh, const Vec3d& wi
     state.iterations = 4000;
     state.relativeError = 1e-6;
     state.absoluteError = 1e-6 * wind.length() * mVoxel;
-    const openvdb::FloatGrid::Ptr potential = openvdb::tools::computeScalarPotential(*domain, *neumann, state);
+    IterationCounter counter(progress, state.iterations);
+    openvdb::util::NullInterrupter* interrupter = &counter; // the solver takes its interrupter by the base's pointer
+    const openvdb::FloatGrid::Ptr potential = openvdb::tools::computeScalarPotential(*domain, *neumann, state, interrupter);
     if (!state.success)
         throw ValueError("the potential flow around the mesh did not converge (" + std::to_string(state.iterations) +
                          " iterations, error " + std::to_string(state.absoluteError) + ")");
@@ -271,12 +300,12 @@ void GridRepulsion::buildPotentialFlow(const TriangleMesh& mesh, const Vec3d& wi
 } // namespace
 
 std::shared_ptr<const RepulsionField> RepulsionField::build(const TriangleMesh& mesh, const RepulsionOptions& options,
-                                                            const Vec3d& wind)
+                                                            const Vec3d& wind, const Progress& progress)
 {
     options.validate();
     openvdb::initialize(); // OpenVDB's solvers log through it
     if (options.method == RepulsionMethod::Octree) return std::make_shared<OctreeRepulsion>(mesh, options.field);
-    return std::make_shared<GridRepulsion>(mesh, options, wind);
+    return std::make_shared<GridRepulsion>(mesh, options, wind, progress);
 }
 
 } // namespace vfield

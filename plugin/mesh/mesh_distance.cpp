@@ -8,7 +8,29 @@
 
 namespace vfield {
 
-MeshDistance::MeshDistance(const TriangleMesh& mesh, double voxelSize, double exteriorBand, double interiorBand)
+namespace {
+
+/// OpenVDB's interrupter interface, never interrupting: passes on each new
+/// percentage the conversion reports (from the calling thread; its workers
+/// ask without one).
+class ProgressInterrupter final : public openvdb::util::NullInterrupter {
+public:
+    explicit ProgressInterrupter(const MeshDistance::Progress& progress) : mProgress(progress) {}
+    bool wasInterrupted(int percent = -1) override
+    {
+        if (percent >= 0 && percent != mLastPercent && mProgress) mProgress(mLastPercent = percent);
+        return false;
+    }
+
+private:
+    const MeshDistance::Progress& mProgress;
+    int mLastPercent = -1;
+};
+
+} // namespace
+
+MeshDistance::MeshDistance(const TriangleMesh& mesh, double voxelSize, double exteriorBand, double interiorBand,
+                           const Progress& progress)
     : mVoxelSize(voxelSize), mExteriorBand(exteriorBand)
 {
     const auto transform = openvdb::math::Transform::createLinearTransform(voxelSize);
@@ -16,8 +38,9 @@ MeshDistance::MeshDistance(const TriangleMesh& mesh, double voxelSize, double ex
     // Bands are in voxels; at least the three a trilinear lookup and a central difference need.
     const float exterior = float(std::max(3.0, std::ceil(exteriorBand / voxelSize)));
     const float interior = float(std::max(3.0, std::ceil(interiorBand / voxelSize)));
-    mGrid =
-        openvdb::tools::meshToSignedDistanceField<openvdb::FloatGrid>(*transform, mesh.points, triangles, {}, exterior, interior);
+    ProgressInterrupter interrupter(progress);
+    mGrid = openvdb::tools::meshToSignedDistanceField<openvdb::FloatGrid>(interrupter, *transform, mesh.points, triangles, {},
+                                                                          exterior, interior);
     mExteriorBand = exterior * voxelSize;
     mReach = mesh.bounds();
     mReach.expand(mExteriorBand);

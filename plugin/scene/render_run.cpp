@@ -144,9 +144,14 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
             continue;
         }
         const auto start = std::chrono::steady_clock::now();
+        const auto frameProgress = [&](double fraction) {
+            if (options.frameProgress) options.frameProgress(f, summary.rendered + summary.skipped, total, fraction);
+        };
+        // A frame the simulation did not make is refused before anything is said or prepared.
+        const openvdb::FloatGrid::Ptr density = simulation.readDensity(f, inputsHash);
+        frameProgress(0.0);
         if (!prepared) backend->prepare();
         prepared = true;
-        const openvdb::FloatGrid::Ptr density = simulation.readDensity(f, inputsHash);
 
         FrameView view;
         view.frame = f;
@@ -165,6 +170,7 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
                                             : Camera::fromSettings(settings.camera, width, height);
         const CloudLighting lighting(density, settings.medium, settings.sun.direction, sunBlocked);
         view.cloud = &lighting;
+        view.progress = frameProgress;
         backend->render(view, outputDir);
         stamps[std::to_string(f)] = stamp;
         writeTextAtomically(stampsPath, stamps.dump(1) + "\n");

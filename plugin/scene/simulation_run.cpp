@@ -85,7 +85,10 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
     const FolderLock lock(outputDir, "vfield simulate", options.waitForFolder);
     const SimFolder folder(outputDir);
 
-    Simulator simulator(setup);
+    const auto preparing = [&](const std::string& step) {
+        if (options.preparing) options.preparing(step);
+    };
+    Simulator simulator(setup, preparing);
     const ClearanceProbe clearance(simulator);
     SimulateSummary summary;
     summary.warnings = simulator.meshReports();
@@ -103,6 +106,7 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
                             "holds a simulation of another scene (" + saved.scenePath + "): use another folder or remove it");
         if (saved.inputsHash == run.inputsHash) {
             run = std::move(saved);
+            preparing("checking the " + std::to_string(run.records.size()) + " frames an earlier run wrote");
             const std::optional<BadFrame> bad = firstBadFrame(folder, run, writeFirst);
             if (!bad) {
                 simulator.restoreState(run.simulatorState);
@@ -120,6 +124,7 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
                                                  [good](const FrameRecord& r) { return r.frame > good; }),
                                   run.records.end());
                 run.tracks.keepUpTo(good);
+                preparing("simulating again up to frame " + std::to_string(good) + ", as written before");
                 while (simulator.frame() < good) simulator.advanceFrame();
                 if (good >= setup.firstFrame) summary.resumedAfterFrame = good;
             }
@@ -128,7 +133,10 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
             summary.restartedStale = true;
         }
     }
-    if (!fs::exists(folder.fieldFile())) writeVdb(folder.fieldFile(), {simulator.staticForceGrid()});
+    if (!fs::exists(folder.fieldFile())) {
+        preparing("writing the static field, " + folder.fieldFile());
+        writeVdb(folder.fieldFile(), {simulator.staticForceGrid()});
+    }
 
     std::vector<std::size_t> dynamic;
     std::vector<FieldRecord> fields;

@@ -11,11 +11,18 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 
 namespace vfield {
 
-Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup.firstFrame)
+Simulator::Simulator(const SimulationSetup& setup, const Preparing& preparing) : mSetup(setup), mFrame(setup.firstFrame)
 {
+    std::mutex reporting;
+    const auto report = [&](const std::string& step) {
+        if (!preparing) return;
+        const std::lock_guard<std::mutex> lock(reporting);
+        preparing(step);
+    };
     openvdb::initialize();
     setup.validate();
 
@@ -32,11 +39,19 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
     tbb::parallel_for(std::size_t(0), mObjects.size(), [&](std::size_t i) {
         SimObject& object = mObjects[i];
         object.spec = &mSetup.objects[i];
+        const std::string& name = object.spec->name;
+        const auto distanceProgress = [&](int percent) {
+            report(name + ": exact distance field " + std::to_string(percent) + "%");
+        };
+        report(name + ": mesh");
         object.mesh = makeMesh(object.spec->mesh, &object.loadReport);
         if (object.spec->repulsion) {
+            report(name + ": " + enumName(object.spec->repulsion->method) + " field of " +
+                   std::to_string(object.mesh.triangleCount()) + " triangles");
             const auto start = std::chrono::steady_clock::now();
             object.field =
-                RepulsionField::build(object.mesh, *object.spec->repulsion, object.spec->transform.rotateToObject(cloudsWind));
+                RepulsionField::build(object.mesh, *object.spec->repulsion, object.spec->transform.rotateToObject(cloudsWind),
+                                      [&](const std::string& step) { report(name + ": " + step); });
             object.fieldSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         }
         object.isClosed = analyzeTopology(object.mesh).isClosed();
@@ -46,11 +61,13 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
             for (std::size_t t = 0; t < object.mesh.triangleCount(); ++t) object.centroids.push_back(object.mesh.centroid(t));
             for (const Vec3f& p : object.mesh.points) object.radius = std::max(object.radius, double(p.length()));
             if (object.isClosed) {
+                report(name + ": exact distance field");
                 // Wider bands cost cubically in voxels (a margin of 20 took 285 voxels
                 // and most of a four-aircraft run) and serve only measurement.
                 const double band =
                     object.field ? std::min(0.5 * (object.field->rootSide() - extent), 0.5 * extent) : 0.1 * extent;
-                object.distance = std::make_shared<MeshDistance>(object.mesh, extent / 128.0, band, 0.5 * extent);
+                object.distance =
+                    std::make_shared<MeshDistance>(object.mesh, extent / 128.0, band, 0.5 * extent, distanceProgress);
             }
         } else {
             // Half the finest leaf (a box's few triangles make large ones), at
@@ -61,7 +78,8 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
             double voxel = extent / 256.0;
             if (object.field) voxel = std::min(voxel, 0.5 * object.field->finestCellSize());
             const double reach = object.field ? 0.1 * object.field->rootSide() : 0.1 * extent;
-            object.distance = std::make_shared<MeshDistance>(object.mesh, voxel, reach, 3.0 * voxel);
+            report(name + ": exact distance field");
+            object.distance = std::make_shared<MeshDistance>(object.mesh, voxel, reach, 3.0 * voxel, distanceProgress);
         }
     });
 
@@ -83,6 +101,7 @@ Simulator::Simulator(const SimulationSetup& setup) : mSetup(setup), mFrame(setup
     if (!std::isfinite(mFinestCell)) mFinestCell = 1.0; // no fields: steps bounded by the unit length
 
     // Clouds: each from its own seed stream, mixed with the scene's seed.
+    if (!mSetup.clouds.empty()) report("clouds: emitting particles");
     mParticles = emitClouds(mSetup);
     for (const CloudSpec& cloud : mSetup.clouds) domain.expand(BBoxd(cloud.center - cloud.radii, cloud.center + cloud.radii));
     mDomain = mSetup.options.domain.value_or(domain);

@@ -156,6 +156,10 @@ def cancel_stops_the_simulation(vfield, scene_path, work):
     simulation.cancel()
     assert simulation.process.returncode != 0, "vfield finished before it was cancelled"
     assert simulation.total == 400 and 2 <= simulation.done < 400, (simulation.done, simulation.total)
+    # The status bar has news before the first frame too (building the fields), and an ETA after.
+    first_frame = next(i for i, line in enumerate(simulation.log) if line.startswith("frame 1/"))
+    assert any(line.startswith("preparing: ") for line in simulation.log[:first_frame]), simulation.log[:first_frame]
+    assert "ETA" in simulation.log[first_frame], simulation.log[first_frame]
     print(f"cancel: vfield stopped after frame {simulation.done} of {simulation.total}")
 
 

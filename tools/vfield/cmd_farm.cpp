@@ -6,6 +6,7 @@
 #include "cli_values.h"
 #include "command.h"
 #include "farm_jobs.h"
+#include "progress.h"
 #include "scene_cli_options.h"
 
 #include <vfield/core/error.h>
@@ -97,7 +98,11 @@ Runner registerFarm(CLI::App& app, const GlobalOptions& global)
             return;
         }
         if (o->engine == "local") {
-            runLocally(plan);
+            ProgressLine progress(global.quiet, "task");
+            const Stopwatch watch;
+            runLocally(
+                plan, [&](int done, int total, const std::string& what) { progress.update(done, total, watch.seconds(), what); },
+                global.quiet);
             log(global, plan.out + ": " + std::to_string(plan.variants.size()) + " variant(s) simulated and rendered here");
             return;
         }

@@ -78,6 +78,11 @@ void renderWithProgress(const Scene& scene, const std::string& simDir, const std
     options.progress = [&progress](int frame, int done, int total, double seconds) {
         progress.update(done, total, seconds, "(rendered frame " + std::to_string(frame) + ")");
     };
+    const Stopwatch watch;
+    options.frameProgress = [&progress, &watch](int frame, int done, int total, double fraction) {
+        progress.update(done + fraction, total, watch.seconds(),
+                        "(rendering frame " + std::to_string(frame) + ": " + std::to_string(int(100.0 * fraction)) + "%)");
+    };
     const RenderRunSummary summary = renderScene(scene, simDir, output, options);
     char line[240];
     std::snprintf(line, sizeof line, "rendered %d frames (%.3f s each), skipped %d already complete", summary.rendered,
@@ -150,10 +155,7 @@ Runner registerRun(CLI::App& app, const GlobalOptions& global)
         simulate.waitForFolder = folderWaiting(o->render.wait, global, o->output + "/sim");
         {
             ProgressLine progress(global.quiet);
-            simulate.progress = [&progress](const FrameProgress& p) {
-                progress.update(p.done, p.total, p.elapsedSeconds,
-                                "(simulated frame " + std::to_string(p.frame) + ", " + std::to_string(p.alive) + " particles)");
-            };
+            showSimulationProgress(simulate, progress, "simulated frame");
             const SimulateSummary summary = simulateScene(scene, o->output + "/sim", simulate);
             if (summary.resimulatedFrom >= 0)
                 log(global, "frame " + std::to_string(summary.resimulatedFrom) + " was not as written (" +

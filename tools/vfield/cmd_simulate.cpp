@@ -60,10 +60,7 @@ Runner registerSimulate(CLI::App& app, const GlobalOptions& global)
             options.lastFrame = o->frames->last;
         }
         ProgressLine progress(global.quiet);
-        options.progress = [&progress](const FrameProgress& p) {
-            progress.update(p.done, p.total, p.elapsedSeconds,
-                            "(frame " + std::to_string(p.frame) + ", " + std::to_string(p.alive) + " particles)");
-        };
+        showSimulationProgress(options, progress, "frame");
         const SimulateSummary summary = simulateScene(scene, o->output, options);
         for (const std::string& warning : summary.warnings) log(global, "warning: " + warning);
         if (summary.restartedStale)

@@ -34,6 +34,7 @@ Runner registerFarm(CLI::App& app, const GlobalOptions& global);
 Runner registerHelp(CLI::App& app, const GlobalOptions& global);
 Runner registerVerify(CLI::App& app, const GlobalOptions& global);
 Runner registerSilhouette(CLI::App& app, const GlobalOptions& global);
+Runner registerGolden(CLI::App& app, const GlobalOptions& global);
 
 /// Thrown by a runner to end with an exit status other than 0 (success) and 1
 /// (an exception, its message reported): `vfield compare` exits 1 when the

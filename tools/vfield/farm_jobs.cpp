@@ -232,21 +232,28 @@ std::vector<std::string> submitToSlurm(const FarmPlan& plan)
     return lines;
 }
 
-void runLocally(const FarmPlan& plan)
+void runLocally(const FarmPlan& plan, const LocalTaskStarted& started, bool quiet)
 {
-    const auto runScript = [](const std::string& script, const std::string& environment) {
-        const int status = std::system((environment + " bash " + quote(script)).c_str());
+    const int total = int(plan.variants.size()) * (plan.chunks() + 2) + (plan.isWedge() ? 1 : 0);
+    int done = 0;
+    const auto runScript = [&](const std::string& what, const std::string& script, const std::string& environment) {
+        started(done, total, what);
+        // Quiet: the tasks' own progress goes to a log beside the script, as on a cluster.
+        const std::string output = quiet ? " >> " + quote(script + ".log") + " 2>&1" : "";
+        const int status = std::system((environment + " bash " + quote(script) + output).c_str());
         if (status != 0) throw Error(script + " failed (status " + std::to_string(status) + ")");
+        ++done;
     };
     const std::string cpus = "SLURM_CPUS_PER_TASK=" + std::to_string(plan.cpusPerTask);
     for (const FarmVariant& v : plan.variants) {
-        const std::string dir = farmDir(v.dir);
-        runScript(dir + "/simulate.sh", cpus);
+        const std::string dir = farmDir(v.dir), prefix = v.name.empty() ? "" : v.name + ": ";
+        runScript(prefix + "simulate", dir + "/simulate.sh", cpus);
         for (int task = 0; task < plan.chunks(); ++task)
-            runScript(dir + "/render.sh", cpus + " SLURM_ARRAY_TASK_ID=" + std::to_string(task));
-        runScript(dir + "/finish.sh", cpus);
+            runScript(prefix + "render task " + std::to_string(task + 1) + "/" + std::to_string(plan.chunks()),
+                      dir + "/render.sh", cpus + " SLURM_ARRAY_TASK_ID=" + std::to_string(task));
+        runScript(prefix + "contact sheet and movie", dir + "/finish.sh", cpus);
     }
-    if (plan.isWedge()) runScript(farmDir(plan.out) + "/wedges.sh", cpus);
+    if (plan.isWedge()) runScript("wedge sheet", farmDir(plan.out) + "/wedges.sh", cpus);
 }
 
 std::vector<std::string> farmStatus(const std::string& out)

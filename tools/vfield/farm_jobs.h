@@ -4,6 +4,7 @@
 // (sbatch, with dependencies) or that run one after another on this machine.
 // Each script is plain bash with #SBATCH lines, so the same files serve both.
 
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -52,8 +53,12 @@ std::vector<std::string> writeFarmScripts(const FarmPlan& plan);
 /// records the job ids in OUT/farm/jobs.txt. Returns one line per job.
 std::vector<std::string> submitToSlurm(const FarmPlan& plan);
 
-/// Runs the scripts here, one after another (the render script once per chunk).
-void runLocally(const FarmPlan& plan);
+/// Told before each task runs locally: tasks done, tasks in all, and which ("render task 2/6").
+using LocalTaskStarted = std::function<void(int done, int total, const std::string& what)>;
+
+/// Runs the scripts here, one after another (the render script once per
+/// chunk); quiet: each script's output goes to SCRIPT.log beside it.
+void runLocally(const FarmPlan& plan, const LocalTaskStarted& started, bool quiet);
 
 /// What OUT holds: per variant, frames simulated and rendered of the range,
 /// and the Slurm jobs still queued or running.

@@ -67,6 +67,7 @@ int main(int argc, char** argv)
         {"help", registerHelp(app, global)},
         {"verify", registerVerify(app, global)},
         {"silhouette", registerSilhouette(app, global)},
+        {"golden", registerGolden(app, global)},
     };
 
     try {

@@ -88,6 +88,7 @@ class VFIELD_OT_simulate(bpy.types.Operator):
         finished = self._simulation.poll()
         if self._simulation.total:
             context.window_manager.progress_update(self._simulation.done / self._simulation.total)
+        if self._simulation.status:
             context.workspace.status_text_set(self._simulation.status + "   (Esc cancels)")
         if not finished:
             return {"RUNNING_MODAL"}

@@ -29,6 +29,7 @@ class Simulation:
         self.process = subprocess.Popen(self.command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         self.lines = queue.Queue()
         self.last_line = ""
+        self.log = []  # every line vfield printed, in order
         self.done, self.total = 0, 0
         self.status = ""
         self._reader = threading.Thread(target=self._read, daemon=True)
@@ -48,10 +49,12 @@ class Simulation:
             if not line:
                 continue
             self.last_line = line
+            self.log.append(line)
+            # Every line is news: "preparing: terrain: exact distance field 54%" before the frames.
+            self.status = "vfield: " + line
             match = PROGRESS.search(line)
             if match:
                 self.done, self.total = int(match.group(1)), int(match.group(2))
-                self.status = "vfield: " + line
         return exited
 
     def wait(self):

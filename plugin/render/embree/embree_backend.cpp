@@ -43,6 +43,7 @@ void EmbreeBackend::render(const FrameView& view, const std::string& out)
     frame.frame = view.frame;
     frame.terrainLow = mTerrainLow;
     frame.terrainHigh = mTerrainHigh;
+    frame.progress = view.progress;
     const RenderImage image = renderFrame(frame);
     for (const std::string& path : frameFiles(out, view.frame)) writeFrameImage(image, path);
     mSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -88,7 +88,8 @@ void PovrayBackend::render(const FrameView& view, const std::string& out)
     }
     writeTextAtomically((folder / scene).string(), povrayFrameText(pov));
     try {
-        runPovray(mOptions.workFolder, scene, rendered, mSettings.image, mSettings.povrayQuality, mOptions.threads);
+        runPovray(mOptions.workFolder, scene, rendered, mSettings.image, mSettings.povrayQuality, mOptions.threads,
+                  view.progress);
     } catch (...) {
         mOptions.keepScene = true; // a failed frame's scene files and log stay for inspection
         throw;

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -16,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -33,6 +35,7 @@ std::string logTail(const std::string& logPath, std::size_t lines = 4)
     std::deque<std::string> tail;
     for (std::string line; std::getline(in, line);) {
         line.erase(line.find_last_not_of(" \t\r") + 1);
+        line.erase(0, line.find_last_of('\r') + 1); // of progress lines rewritten in place, the last
         if (line.empty()) continue;
         tail.push_back(line);
         if (tail.size() > lines) tail.pop_front();
@@ -40,6 +43,23 @@ std::string logTail(const std::string& logPath, std::size_t lines = 4)
     std::string joined;
     for (const std::string& line : tail) joined += (joined.empty() ? "" : " | ") + line;
     return joined.empty() ? "(no output)" : joined;
+}
+
+/// The fraction of pixels POV-Ray's newest "Rendered A of B pixels" line in
+/// its log reports, or -1.
+double renderedFraction(const std::string& logPath)
+{
+    std::ifstream in(logPath, std::ios::binary | std::ios::ate);
+    const std::streamoff size = in ? std::streamoff(in.tellg()) : 0;
+    const std::streamoff start = std::max<std::streamoff>(0, size - 256);
+    std::string tail(std::size_t(size - start), '\0');
+    in.seekg(start);
+    in.read(tail.data(), size - start);
+    const std::size_t at = tail.rfind("Rendered ");
+    unsigned long long done = 0, total = 0;
+    if (at == std::string::npos || std::sscanf(tail.c_str() + at, "Rendered %llu of %llu", &done, &total) != 2 || total == 0)
+        return -1.0;
+    return double(done) / double(total);
 }
 
 } // namespace
@@ -80,7 +100,7 @@ std::optional<std::string> povrayVersion()
 }
 
 void runPovray(const std::string& folder, const std::string& sceneFile, const std::string& imageFile, const ImageSettings& image,
-               PovrayQuality quality, int threads)
+               PovrayQuality quality, int threads, const std::function<void(double fraction)>& progress)
 {
     requirePovray();
     image.validate();
@@ -93,7 +113,7 @@ void runPovray(const std::string& folder, const std::string& sceneFile, const st
                                      "+H" + std::to_string(image.height),
                                      "+WT" + std::to_string(threads),
                                      "-D",  // no display
-                                     "-V",  // no progress lines
+                                     "+V",  // progress lines ("Rendered 1024 of 76800 pixels"), read below
                                      "-P",  // no pause
                                      "+FN", // PNG
                                      "File_Gamma=sRGB"};
@@ -126,9 +146,24 @@ void runPovray(const std::string& folder, const std::string& sceneFile, const st
         ::execvp(kProgram, argv.data());
         ::_exit(127);
     }
+    // POV-Ray reports a block of pixels when it is done; with media and
+    // supersampling that can take many seconds, so the fraction is told again
+    // every second, grown or not.
     int status = 0;
-    while (::waitpid(child, &status, 0) < 0)
-        if (errno != EINTR) throw Error(std::string("lost POV-Ray: ") + std::strerror(errno));
+    double reported = -1.0;
+    auto lastTold = std::chrono::steady_clock::now();
+    for (;;) {
+        const pid_t done = ::waitpid(child, &status, WNOHANG);
+        if (done == child) break;
+        if (done < 0 && errno != EINTR) throw Error(std::string("lost POV-Ray: ") + std::strerror(errno));
+        std::this_thread::sleep_for(std::chrono::milliseconds(250));
+        const double fraction = std::max(0.0, renderedFraction(logPath));
+        const auto now = std::chrono::steady_clock::now();
+        if (progress && (fraction > reported || now - lastTold >= std::chrono::seconds(1))) {
+            progress(reported = fraction);
+            lastTold = now;
+        }
+    }
     const std::string scenePath = (fs::path(folder) / sceneFile).string();
     if (WIFSIGNALED(status))
         throw FileError(scenePath, "POV-Ray was killed by signal " + std::to_string(WTERMSIG(status)) + ": " + logTail(logPath) +

@@ -37,6 +37,7 @@
 
 #include <openvdb/openvdb.h>
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -98,12 +99,16 @@ struct RepulsionOptions {
 
 class RepulsionField {
 public:
+    /// Told, about once a second, how far a long build is ("potential flow:
+    /// iteration 400 of at most 4000"), from the calling thread.
+    using Progress = std::function<void(const std::string& step)>;
+
     /// Builds the field around the mesh. wind (object space, acceleration
     /// units) is what potentialFlow deflects; the other methods ignore it.
     /// Throws ValueError for invalid options, a mesh without triangles of
     /// non-zero area, or a potential flow whose solve does not converge.
     static std::shared_ptr<const RepulsionField> build(const TriangleMesh& mesh, const RepulsionOptions& options,
-                                                       const Vec3d& wind = Vec3d(0.0));
+                                                       const Vec3d& wind = Vec3d(0.0), const Progress& progress = {});
     virtual ~RepulsionField() = default;
 
     RepulsionMethod method() const { return mMethod; }

@@ -12,6 +12,7 @@
 
 #include <openvdb/openvdb.h>
 
+#include <functional>
 #include <vector>
 
 namespace vfield {
@@ -20,9 +21,14 @@ class MeshDistance {
 public:
     using Accessor = openvdb::FloatGrid::ConstAccessor;
 
+    /// Told how far the build is, in percent, as OpenVDB's mesh-to-volume
+    /// conversion estimates it (a few steps: 30, 45, 50, 54, ..., 99).
+    using Progress = std::function<void(int percent)>;
+
     /// voxelSize, exteriorBand and interiorBand in object units; an interior
     /// band of at least half the mesh's smallest extent fills its whole inside.
-    MeshDistance(const TriangleMesh& mesh, double voxelSize, double exteriorBand, double interiorBand);
+    MeshDistance(const TriangleMesh& mesh, double voxelSize, double exteriorBand, double interiorBand,
+                 const Progress& progress = {});
 
     double voxelSize() const { return mVoxelSize; }
     double exteriorBand() const { return mExteriorBand; }

@@ -15,6 +15,7 @@
 #include <vfield/render/camera.h>
 #include <vfield/render/cloud_lighting.h>
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -28,6 +29,9 @@ struct FrameView {
     Camera camera{Vec3d(0, 0, 1), Vec3d(0.0), Vec3d(0, 1, 0), 45, 1, 1};
     std::map<int, Transform> poses;       ///< the dynamic objects' poses, by object index
     const CloudLighting* cloud = nullptr; ///< the frame's density and the light in it (never null)
+    /// Told the fraction of the frame's pixels done, about once a second, one
+    /// call at a time (from worker threads); may be unset.
+    std::function<void(double fraction)> progress;
 };
 
 class RenderBackend {

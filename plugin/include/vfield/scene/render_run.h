@@ -35,6 +35,11 @@ struct RenderRunOptions {
     /// only. Default: as many as vfield's (tbb's task arena).
     std::optional<int> povrayThreads;
     std::function<void(int frame, int done, int total, double seconds)> progress;
+    /// Told, while a frame is rendered, its number, the frames done and to do
+    /// (as progress) and the fraction of its pixels done (0 while the renderer
+    /// and the frame's light are prepared), about once a second, one call at a
+    /// time (from worker threads).
+    std::function<void(int frame, int done, int total, double fraction)> frameProgress;
     /// Called once per thing the scene asks that the back-end cannot draw,
     /// before the first frame.
     std::function<void(const std::string& line)> warning;

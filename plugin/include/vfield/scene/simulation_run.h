@@ -47,6 +47,11 @@ struct SimulateOptions {
     std::optional<int> firstFrame, lastFrame;
     /// Called after each frame (from the calling thread).
     std::function<void(const FrameProgress&)> progress;
+    /// Told each step before the first frame as it starts: building the
+    /// fields and exact distances (Simulator::Preparing, from worker threads,
+    /// one call at a time), checking an earlier run's frames, writing the
+    /// static field.
+    std::function<void(const std::string& step)> preparing;
     /// Refuse, before loading anything, a scene estimated to need more memory
     /// than this (bytes; memory_estimate.h). Unset: the memory available now.
     std::optional<double> maxMemoryBytes;

@@ -79,9 +79,13 @@ struct StepStats {
 
 class Simulator {
 public:
+    /// Told each step of building a simulator as it starts ("terrain: octree
+    /// field of 131072 triangles"), one call at a time, from worker threads.
+    using Preparing = std::function<void(const std::string& step)>;
+
     /// Loads or generates every mesh and builds and voxelizes the fields (in
     /// parallel), then spawns the clouds. Throws on bad input.
-    explicit Simulator(const SimulationSetup& setup);
+    explicit Simulator(const SimulationSetup& setup, const Preparing& preparing = {});
     // Objects point into the setup it owns: no copies (restoreState() resets one).
     Simulator(const Simulator&) = delete;
     Simulator& operator=(const Simulator&) = delete;

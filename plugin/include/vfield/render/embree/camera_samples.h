@@ -12,7 +12,11 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <functional>
 #include <limits>
+#include <mutex>
 
 namespace vfield {
 
@@ -21,6 +25,32 @@ struct CameraSample {
     Vec3d radiance{0.0};
     double alpha = 0.0;                                   ///< coverage: 1 unless it sees a transparent sky
     float depth = std::numeric_limits<float>::infinity(); ///< to the first surface
+};
+
+/// Pixels done, counted across worker threads, and told as a fraction of the
+/// frame at most once a second, one call at a time.
+class PixelProgress {
+public:
+    PixelProgress(const std::function<void(double fraction)>& report, std::size_t pixels)
+        : mReport(report), mPixels(double(pixels)), mLast(std::chrono::steady_clock::now())
+    {}
+    void add(std::size_t pixels)
+    {
+        const std::size_t done = mDone += pixels;
+        if (!mReport) return;
+        const std::unique_lock<std::mutex> lock(mMutex, std::try_to_lock);
+        const auto now = std::chrono::steady_clock::now();
+        if (!lock.owns_lock() || now - mLast < std::chrono::seconds(1)) return;
+        mLast = now;
+        mReport(double(done) / mPixels);
+    }
+
+private:
+    const std::function<void(double)>& mReport;
+    double mPixels;
+    std::atomic<std::size_t> mDone{0};
+    std::mutex mMutex;
+    std::chrono::steady_clock::time_point mLast;
 };
 
 /// makeSampler() is called once per tile (so that it can hold per-thread
@@ -38,6 +68,7 @@ RenderImage renderCameraSamples(const FrameToRender& f, const MakeSampler& makeS
     image.rgba.assign(std::size_t(width) * height * 4, 0.0f);
     image.depth.assign(std::size_t(width) * height, std::numeric_limits<float>::infinity());
 
+    PixelProgress progress(f.progress, std::size_t(width) * height);
     const int tile = 16;
     tbb::parallel_for(tbb::blocked_range2d<int>(0, height, tile, 0, width, tile), [&](const tbb::blocked_range2d<int>& r) {
         auto sampler = makeSampler();
@@ -65,6 +96,7 @@ RenderImage renderCameraSamples(const FrameToRender& f, const MakeSampler& makeS
                 out[3] = float(alpha / n);
                 image.depth[pixel] = depth;
             }
+        progress.add(r.rows().size() * r.cols().size());
     });
     return image;
 }

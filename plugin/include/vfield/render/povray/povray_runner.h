@@ -7,6 +7,7 @@
 
 #include <vfield/render/render_settings.h>
 
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -18,11 +19,13 @@ namespace vfield {
 /// most 9 (PovrayQuality::Final), or only pixels that differ from their
 /// neighbours, 2 x 2 (Preview). threads: POV-Ray's render threads (>= 1); its media sampling
 /// differs between thread counts, and 1 makes its images reproducible.
-/// POV-Ray's output goes to folder/<imageFile>.log. Throws Error when povray
+/// POV-Ray's output goes to folder/<imageFile>.log; progress, if set, is told
+/// the fraction of pixels POV-Ray reports rendered (from the calling thread)
+/// as it grows, and at least once a second. Throws Error when povray
 /// is not on PATH (naming the Debian package) and when it fails (with the last
 /// lines of its log and the log's path).
 void runPovray(const std::string& folder, const std::string& sceneFile, const std::string& imageFile, const ImageSettings& image,
-               PovrayQuality quality, int threads);
+               PovrayQuality quality, int threads, const std::function<void(double fraction)>& progress = {});
 
 /// Whether a povray program is on PATH.
 bool povrayAvailable();
