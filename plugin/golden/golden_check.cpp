@@ -150,10 +150,9 @@ void acceptGoldenOutputs(GoldenCase& c, const std::string& outDir, const std::st
         if (!fs::exists(output)) throw FileError(output, "no such output (the case's commands did not write it)");
         const std::string golden = c.goldenPath(image);
         if (fs::exists(golden)) {
-            ImageCompareOptions options = c.compare;
             GoldenImageResult old;
             old.name = fs::path(image).filename().string();
-            old.comparison = compareImages(golden, output, options);
+            old.comparison = compareImages(golden, output, c.compare);
             if (!old.comparison.sizeMismatch.empty()) old.problem = "sizes differ: " + old.comparison.sizeMismatch;
             entry.differences.push_back(describeImageDifference(old, c.compare));
         }

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace vfield {
 
@@ -109,7 +110,7 @@ void Simulator::measureFieldSpeeds(double t0, double t1)
 }
 
 bool Simulator::resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t, double dt,
-                                std::vector<MeshDistance::Accessor>& accessors) const
+                                std::vector<MeshDistance::Accessor>& accessors, std::vector<double>& lowerBounds) const
 {
     bool touched = false;
     for (std::size_t k = 0; k < mContact.size(); ++k) {
@@ -118,14 +119,23 @@ bool Simulator::resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t,
         const Transform before = poseAt(i, t), after = poseAt(i, t + dt);
         // The substep's path as the object sees it, sampled a voxel apart.
         const Vec3d a = before.objectFromWorld(from), b = after.objectFromWorld(x);
-        BBoxd path(a, a);
-        path.expand(b);
-        if (!path.hasOverlap(distance.reach())) continue;
-        const double skin = distance.voxelSize();
         // Trilinear reads of a distance change by at most sqrt(3) per unit:
         // a path starting this far out cannot come within half a voxel (most
-        // substeps, at one read instead of one per voxel of the path).
-        if (distance.distance(accessors[k], a) - std::sqrt(3.0) * (b - a).length() >= 0.5 * skin) continue;
+        // substeps, at one read instead of one per voxel of the path, or none
+        // while a static object's carried bound is far enough out).
+        const double travel = std::sqrt(3.0) * (b - a).length();
+        double& bound = lowerBounds[k];
+        if (mObjects[i].spec->isDynamic) bound = -std::numeric_limits<double>::infinity(); // it moved: unknown
+        BBoxd path(a, a);
+        path.expand(b);
+        if (!path.hasOverlap(distance.reach())) {
+            bound -= travel;
+            continue;
+        }
+        const double skin = distance.voxelSize();
+        if (bound - travel < 0.5 * skin) bound = distance.distance(accessors[k], a);
+        bound -= travel; // now a bound at b
+        if (bound >= 0.5 * skin) continue;
         const int samples = std::max(1, int(std::ceil((b - a).length() / skin)));
         int hit = -1;
         for (int s = 0; s <= samples && hit < 0; ++s)
@@ -146,6 +156,8 @@ bool Simulator::resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t,
             local += normal.unitSafe() * (skin - d);
         }
         x = after.worldFromObject(local);
+        // Moved off its path: every object's bound is unknown again.
+        std::fill(lowerBounds.begin(), lowerBounds.end(), -std::numeric_limits<double>::infinity());
         const Vec3d normal = after.rotateToWorld(distance.gradient(accessors[k], local)).unitSafe();
         const Vec3d surfaceVelocity = (x - before.worldFromObject(local)) / dt;
         const double approach = (v - surfaceVelocity).dot(normal);
@@ -155,9 +167,11 @@ bool Simulator::resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t,
     return touched;
 }
 
-bool Simulator::endsInside(const Vec3d& x, double t, std::vector<MeshDistance::Accessor>& accessors) const
+bool Simulator::endsInside(const Vec3d& x, double t, std::vector<MeshDistance::Accessor>& accessors,
+                           const std::vector<double>& lowerBounds) const
 {
     for (std::size_t k = 0; k < mContact.size(); ++k) {
+        if (lowerBounds[k] >= 0.0) continue; // outside, as a read would say
         const MeshDistance& distance = *mObjects[mContact[k]].distance;
         const Vec3d local = poseAt(mContact[k], t).objectFromWorld(x);
         if (distance.reach().isInside(local) && distance.distance(accessors[k], local) < 0.0) return true;
@@ -181,12 +195,14 @@ void Simulator::advanceParticles(double t0, double t1)
         for (const std::size_t i : mRepulsive) accessors.push_back(mObjects[i].field->accessor());
         std::vector<MeshDistance::Accessor> distances;
         for (const std::size_t i : mContact) distances.push_back(mObjects[i].distance->accessor());
+        std::vector<double> lowerBounds(mContact.size());
         for (std::size_t p = range.begin(); p != range.end(); ++p) {
             const CloudSpec& cloud = mSetup.clouds[mParticles.cloud[p]];
             const std::vector<std::size_t>& fields = mCloudFields[mParticles.cloud[p]];
             Vec3d x(mParticles.position[p]), v(mParticles.velocity[p]);
             double t = t0;
             uint32_t steps = 0;
+            std::fill(lowerBounds.begin(), lowerBounds.end(), -std::numeric_limits<double>::infinity());
             while (t < t1) {
                 const FieldsAt at = fieldsAt(x, t, cloud.mass, accessors.data(), true);
                 const Vec3d a = uniformAcceleration(fields, x) + at.acceleration;
@@ -208,8 +224,8 @@ void Simulator::advanceParticles(double t0, double t1)
                 if (carried) x += v * dt;
                 else integrateWithDrag(x, v, a, cloud.drag, dt);
                 if (!mContact.empty()) {
-                    if (resolveContacts(from, x, v, t, dt, distances)) ++contactsOf[p];
-                    if (endsInside(x, t + dt, distances)) ++insideOf[p];
+                    if (resolveContacts(from, x, v, t, dt, distances, lowerBounds)) ++contactsOf[p];
+                    if (endsInside(x, t + dt, distances, lowerBounds)) ++insideOf[p];
                 }
                 t = (t1 - t <= dt) ? t1 : t + dt;
                 ++steps;

@@ -2,6 +2,7 @@
 
 #include <vfield/core/error.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstring>

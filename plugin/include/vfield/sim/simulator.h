@@ -144,10 +144,18 @@ private:
     /// Dual rest (SimulationOptions::restPeriod): resets the rest position due
     /// at the current frame and sets the blend between the two.
     void updateRestPositions();
+    /// Contact of a particle's substep from -> x with the closed meshes
+    /// (mContact). lowerBounds holds, per such object, a lower bound of the
+    /// distance read where the particle starts, or -infinity: a static
+    /// object's bound is carried from substep to substep, since reads change
+    /// by at most sqrt(3) per unit moved, so that substeps far from its
+    /// surface read nothing and decide as a read would.
     bool resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t, double dt,
-                         std::vector<MeshDistance::Accessor>& accessors) const;
-    /// Whether x lies inside a dynamic object's closed mesh as placed at time t.
-    bool endsInside(const Vec3d& x, double t, std::vector<MeshDistance::Accessor>& accessors) const;
+                         std::vector<MeshDistance::Accessor>& accessors, std::vector<double>& lowerBounds) const;
+    /// Whether x lies inside an object's closed mesh as placed at time t
+    /// (lowerBounds: resolveContacts's, for x).
+    bool endsInside(const Vec3d& x, double t, std::vector<MeshDistance::Accessor>& accessors,
+                    const std::vector<double>& lowerBounds) const;
     Transform poseAt(std::size_t object, double time) const;
     /// Per repulsive object (mRepulsive order): how fast its field moves this frame, world units / s.
     void measureFieldSpeeds(double t0, double t1);
