@@ -5,7 +5,6 @@
 
 #include "test_meshes.h"
 
-#include <vfield/core/error.h>
 #include <vfield/core/vdb_file.h>
 #include <vfield/golden/golden_case.h>
 

@@ -197,8 +197,8 @@ void writeJUnitReport(const std::vector<GoldenCaseResult>& results, const std::s
 void writeHtmlReport(const std::vector<GoldenCaseResult>& results, const std::string& path)
 {
     const int failing = countVerdicts(results, GoldenVerdict::Fail) + countVerdicts(results, GoldenVerdict::Error);
-    const std::string title =
-        "vfield golden check: " + std::to_string(failing) + " of " + std::to_string(results.size()) + " cases failed";
+    const std::string title = "vfield golden check: " + std::to_string(failing) + " failed, " +
+                              std::to_string(int(results.size()) - failing) + " passed";
     std::string html = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" + escaped(title) +
                        "</title>\n<style>" + kStyle + "</style></head>\n<body>\n<h1>" + escaped(title) + "</h1>\n";
     int index = 0;
