@@ -5,6 +5,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <array>
+#include <map>
 #include <random>
 
 using namespace vfield;
@@ -81,4 +83,43 @@ TEST_CASE("field grid: the object's transform places the grid in the world", "[f
         if (force.wsSample(options.worldFromObject.transform(p)) != field.sample(p).force) ++mismatches;
     }
     CHECK(mismatches == 0);
+}
+
+TEST_CASE("field grid: the smooth grid holds each leaf's force at its centre, and averages leaves finer than its voxels",
+          "[field][vdb]")
+{
+    // Deeper than the smooth grid goes: its voxels are the cells of level
+    // kSmoothForceMaxLevel, and the leaves below take their average.
+    OctreeFieldOptions options;
+    options.maxLevel = kSmoothForceMaxLevel + 1;
+    options.maxPerLeaf = 2;
+    const OctreeField field = OctreeField::build(smallTerrain(), options);
+    REQUIRE(field.depth() == kSmoothForceMaxLevel + 1);
+    const openvdb::Vec3SGrid::Ptr smooth = smoothForceGrid(field);
+    CHECK(smooth->voxelSize()[0] == Approx(field.cellSize(kSmoothForceMaxLevel)));
+
+    const openvdb::Vec3SGrid::ConstAccessor forces = smooth->getConstAccessor();
+    std::map<std::array<int, 3>, Vec3d> averages; // of the leaves finer than a voxel, per voxel
+    int centres = 0, off = 0;
+    for (const FieldLeaf& leaf : field.leaves()) {
+        const int shift = field.depth() - kSmoothForceMaxLevel; // finest cells per voxel
+        const std::array<int, 3> voxel{int(leaf.origin[0]) >> shift, int(leaf.origin[1]) >> shift, int(leaf.origin[2]) >> shift};
+        if (leaf.level > kSmoothForceMaxLevel) {
+            averages[voxel] += Vec3d(leaf.force) * std::ldexp(1.0, -3 * (leaf.level - kSmoothForceMaxLevel));
+        } else if (leaf.level == kSmoothForceMaxLevel) {
+            // A leaf of the grid's own level: its voxel holds its force.
+            ++centres;
+            if ((Vec3d(forces.getValue(openvdb::Coord(voxel[0], voxel[1], voxel[2]))) - Vec3d(leaf.force)).length() > 1e-6) ++off;
+        }
+    }
+    int wrong = 0;
+    for (const auto& [voxel, average] : averages)
+        if ((Vec3d(forces.getValue(openvdb::Coord(voxel[0], voxel[1], voxel[2]))) - average).length() >
+            1e-5 * std::max(1.0, average.length()))
+            ++wrong;
+    INFO(centres << " leaves of the grid's level, " << averages.size() << " voxels cut finer");
+    CHECK(centres > 100);
+    CHECK(averages.size() > 100);
+    CHECK(off == 0);
+    CHECK(wrong == 0);
 }

@@ -9,6 +9,7 @@
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
@@ -153,7 +154,8 @@ TEST_CASE("repulsion field: with a doubling growth the distance field pushes as 
 TEST_CASE("repulsion field: a potential flow carries the wind around a sphere, never into it", "[repulsion]")
 {
     const Vec3d wind(0.0, 0.0, 1.0);
-    const auto field = RepulsionField::build(unitSphere(), sphereField(RepulsionMethod::PotentialFlow), wind);
+    const auto field =
+        RepulsionField::build(unitSphere(), sphereField(RepulsionMethod::PotentialFlow), FieldSampling::Dual, wind);
     REQUIRE(field->isFlow());
 
     // The flow through spheres around it (wind + the field's deviation, along
@@ -190,8 +192,9 @@ TEST_CASE("repulsion field: every method gives the same grids for 1 and 2 thread
         uint64_t force[2], level[2];
         for (const int threads : {1, 2}) {
             const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
-            const auto field = RepulsionField::build(unitSphere(), sphereField(method), Vec3d(0.3, -1.0, 0.2));
-            force[threads - 1] = gridChecksum(*field->force());
+            const auto field =
+                RepulsionField::build(unitSphere(), sphereField(method), FieldSampling::Dual, Vec3d(0.3, -1.0, 0.2));
+            force[threads - 1] = gridChecksum(*field->force()) ^ gridChecksum(*field->sampledForce());
             level[threads - 1] = gridChecksum(*field->level());
         }
         INFO(enumName(method));
@@ -210,53 +213,125 @@ TEST_CASE("repulsion field: options name what is wrong", "[repulsion]")
     CHECK_THROWS_WITH(options.validate(), Catch::Contains("voxelSize"));
 }
 
-TEST_CASE("repulsion field: dual sampling is linear between adjacent leaf centres, nearest steps at their face", "[repulsion]")
+namespace {
+
+/// Leaves by their min corner (in finest cells) and width, to find neighbours.
+using LeafKey = std::array<uint32_t, 4>;
+std::map<LeafKey, const FieldLeaf*> leavesByCorner(const std::vector<FieldLeaf>& leaves)
+{
+    std::map<LeafKey, const FieldLeaf*> byCorner;
+    for (const FieldLeaf& leaf : leaves) byCorner[{leaf.origin[0], leaf.origin[1], leaf.origin[2], leaf.width}] = &leaf;
+    return byCorner;
+}
+
+/// Whether no surface leaf lies within `distance` of the leaf (its box grown
+/// by that much on every side).
+bool clearOfSurface(const FieldLeaf& leaf, const std::vector<const FieldLeaf*>& surface, double distance)
+{
+    BBoxd reach = leaf.bounds;
+    reach.expand(distance);
+    return std::none_of(surface.begin(), surface.end(), [&](const FieldLeaf* s) { return reach.hasOverlap(s->bounds); });
+}
+
+} // namespace
+
+TEST_CASE("repulsion field: dual sampling turns linearly between adjacent leaf centres, nearest steps at their face",
+          "[repulsion]")
 {
     const TriangleMesh sphere = unitSphere();
-    const RepulsionOptions options = sphereField(RepulsionMethod::Octree);
-    const auto field = RepulsionField::build(sphere, options);
+    RepulsionOptions options = sphereField(RepulsionMethod::Octree);
+    options.field.margin = 6.0; // room for leaves clear of the surface
+    const auto dual = RepulsionField::build(sphere, options, FieldSampling::Dual);
+    const auto nearest = RepulsionField::build(sphere, options, FieldSampling::Nearest);
     const OctreeField octree = OctreeField::build(sphere, options.field);
-    REQUIRE(octree.depth() == field->depth());
+    REQUIRE(octree.depth() == dual->depth());
 
-    // Leaves by their min corner in finest cells, to find each one's neighbour.
     const std::vector<FieldLeaf> leaves = octree.leaves();
-    std::map<std::array<uint32_t, 4>, const FieldLeaf*> byCorner;
-    for (const FieldLeaf& leaf : leaves) byCorner[{leaf.origin[0], leaf.origin[1], leaf.origin[2], leaf.width}] = &leaf;
+    const auto byCorner = leavesByCorner(leaves);
+    std::vector<const FieldLeaf*> surface;
+    for (const FieldLeaf& leaf : leaves)
+        if (leaf.isSurface) surface.push_back(&leaf);
 
-    RepulsionField::Accessor accessor = field->accessor();
+    RepulsionField::Accessor dualReads = dual->accessor(), nearestReads = nearest->accessor();
     int pairs = 0, differing = 0, steps = 0;
-    double worstError = 0.0;
+    double worstDeparture = 0.0, worstOvershoot = 0.0;
     for (const FieldLeaf& a : leaves) {
-        // Away from the surface: neither leaf holds triangles, nor do the finer
-        // leaves a surface's boost comes from.
-        if (a.isSurface || a.level < 2 || a.level == octree.depth()) continue;
+        // At least two (finest) cells from the surface.
+        const double twoCells = 2.0 * octree.finestCellSize();
+        if (a.level < 2 || !clearOfSurface(a, surface, twoCells)) continue;
         for (int axis = 0; axis < 3; ++axis) {
-            std::array<uint32_t, 4> key{a.origin[0], a.origin[1], a.origin[2], a.width};
+            LeafKey key{a.origin[0], a.origin[1], a.origin[2], a.width};
             key[axis] += a.width;
             const auto found = byCorner.find(key);
-            if (found == byCorner.end()) continue;
+            if (found == byCorner.end() || !clearOfSurface(*found->second, surface, twoCells)) continue;
             const FieldLeaf& b = *found->second;
-            if (b.isSurface) continue;
             ++pairs;
             const Vec3d fa(a.force), fb(b.force);
             const Vec3d ca = a.bounds.getCenter(), cb = b.bounds.getCenter();
+            const double scale = std::max(fa.length(), fb.length());
             for (int i = 0; i <= 16; ++i) {
                 const double s = i / 16.0;
-                const Vec3d f = field->sample(accessor, ca + (cb - ca) * s, FieldSampling::Dual).force;
-                worstError = std::max(worstError, (f - (fa + (fb - fa) * s)).length() / std::max(fa.length(), fb.length()));
+                const Vec3d f = dual->sample(dualReads, ca + (cb - ca) * s).force;
+                worstDeparture = std::max(worstDeparture, (f - (fa + (fb - fa) * s)).length() / scale);
+                // No farther from either end's force than the two are apart.
+                worstOvershoot =
+                    std::max(worstOvershoot, (std::max((f - fa).length(), (f - fb).length()) - (fb - fa).length()) / scale);
             }
             // The paper's field: the whole difference, at the shared face.
             const Vec3d face = (ca + cb) * 0.5, across = (cb - ca) * 1e-3;
-            const Vec3d before = field->sample(accessor, face - across, FieldSampling::Nearest).force;
-            const Vec3d after = field->sample(accessor, face + across, FieldSampling::Nearest).force;
+            const Vec3d before = nearest->sample(nearestReads, face - across).force;
+            const Vec3d after = nearest->sample(nearestReads, face + across).force;
             if ((fb - fa).length() < 1e-6) continue;
             ++differing;
             if ((before - fa).length() < 1e-6 && (after - fb).length() < 1e-6) ++steps;
         }
     }
-    INFO(pairs << " pairs of adjacent leaves of one level (" << differing
-               << " pushing differently), worst relative departure from linear " << worstError);
-    CHECK(differing > 100);
-    CHECK(worstError < 1e-5);
+    INFO(pairs << " pairs of adjacent leaves of one level (" << differing << " pushing differently), worst departure from linear "
+               << worstDeparture << " and overshoot " << worstOvershoot << " of the larger force");
+    CHECK(differing > 50);
+    CHECK(worstDeparture < 0.05); // measured 0.033, where finer nodes lie near the pair
+    CHECK(worstOvershoot < 0.05);
     CHECK(steps == differing);
+}
+
+TEST_CASE("repulsion field: dual sampling does not step where the octree's level changes", "[repulsion]")
+{
+    const TriangleMesh sphere = unitSphere();
+    RepulsionOptions options = sphereField(RepulsionMethod::Octree);
+    options.field.margin = 6.0; // room for leaves clear of the surface
+    const auto dual = RepulsionField::build(sphere, options, FieldSampling::Dual);
+    const OctreeField octree = OctreeField::build(sphere, options.field);
+    const std::vector<FieldLeaf> leaves = octree.leaves();
+    std::vector<const FieldLeaf*> surface;
+    for (const FieldLeaf& leaf : leaves)
+        if (leaf.isSurface) surface.push_back(&leaf);
+
+    // Across every face where a leaf meets finer ones, away from the surface:
+    // the paper's field steps by the difference of the two leaves' forces; the
+    // dual field, sampled a thousandth of the finer leaf either side, barely moves.
+    RepulsionField::Accessor reads = dual->accessor();
+    int faces = 0;
+    double worstStep = 0.0;
+    for (const FieldLeaf& coarse : leaves) {
+        if (!clearOfSurface(coarse, surface, 2.0 * octree.finestCellSize())) continue;
+        for (int axis = 0; axis < 3; ++axis)
+            for (const int side : {-1, 1}) {
+                Vec3d outside = coarse.bounds.getCenter();
+                outside[axis] += side * 0.5 * coarse.bounds.extents()[axis] * (1.0 + 1e-6);
+                const FieldSample fine = octree.sample(outside);
+                const Vec3d step = Vec3d(fine.force) - Vec3d(coarse.force);
+                if (fine.level <= coarse.level || fine.isSurface || step.length() < 1e-6) continue;
+                ++faces;
+                Vec3d a = outside, b = outside;
+                const double epsilon = 1e-3 * octree.cellSize(fine.level);
+                a[axis] -= side * epsilon;
+                b[axis] += side * epsilon;
+                const Vec3d jump = dual->sample(reads, b).force - dual->sample(reads, a).force;
+                worstStep = std::max(worstStep, jump.length() / step.length());
+            }
+    }
+    INFO(faces << " faces where a leaf meets finer ones; the dual field changes across them by at most " << worstStep
+               << " of the paper's step");
+    CHECK(faces > 30);
+    CHECK(worstStep < 0.01); // measured 0.0045
 }

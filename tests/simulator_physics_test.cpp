@@ -6,6 +6,7 @@
 #include "test_meshes.h"
 
 #include <vfield/core/vdb_file.h>
+#include <vfield/mesh/mesh_io.h>
 #include <vfield/render/camera.h>
 #include <vfield/scene/inputs_hash.h>
 #include <vfield/scene/run_metrics.h>
@@ -420,4 +421,63 @@ TEST_CASE("simulator: a cloud carried down a slope loses density with every fram
     CHECK(previousHeight < 18.0 - 10.0); // depth below where it began: gone
     CHECK(previous < 0.05 * full);
     CHECK(sim.particles().size() == 4000); // the particles are all there: only their density went
+}
+
+TEST_CASE("simulator: a cloud pressed onto a wall by wind rests without a step where the wall's leaves change size, "
+          "with dual sampling",
+          "[sim]")
+{
+    // A wall facing +z: in 1-unit squares for x < 0 (fine leaves), one square
+    // of two triangles for x > 0 (coarse leaves), and a cloud blown onto it.
+    TriangleMesh wall;
+    for (int x = -24; x < 0; ++x)
+        for (int y = -8; y < 8; ++y) test::addSquareFacingUp(wall, x, y, x + 1, y + 1, 0.0);
+    test::addSquareFacingUp(wall, 0, -8, 24, 8, 0.0);
+    const std::string dir = test::scratchDir("wall");
+    saveObj(wall, dir + "/wall.obj");
+
+    // The standoff (mean height) of the particles over the wall's middle, in
+    // columns 0.5 units wide across x.
+    const auto standoffs = [&](const std::string& sampling) {
+        const std::string text = R"({"version": 1, "frames": {"start": 1, "end": 40, "fps": 24}, "seed": 1,
+          "objects": [{"name": "wall", "mesh": {"file": ")" +
+                                 dir + R"(/wall.obj"},
+                       "repulsion": {"margin": 8, "maxLevel": 7, "maxPerLeaf": 4, "growth": "doubling", "strength": 0.5}}],
+          "clouds": [{"count": 20000, "shape": "box", "center": [0, 0, 3], "halfSize": [10, 4, 1], "particleRadius": 0.3,
+                      "drag": 2}],
+          "fields": [{"name": "wind", "acceleration": [0, 0, -6]}],
+          "simulation": {"sampling": ")" +
+                                 sampling + R"("}})";
+        Simulator sim(parseScene(text, dir + "/wall.json").simulation);
+        runFrames(sim, 40);
+        std::map<int, std::pair<double, int>> columns;
+        for (const Vec3f& p : sim.particles().position)
+            if (std::abs(p.y()) < 2.0) {
+                auto& [sum, count] = columns[int(std::floor(p.x() / 0.5))];
+                sum += p.z();
+                ++count;
+            }
+        std::vector<double> heights;
+        for (int column = -16; column < 16; ++column) {
+            const auto& [sum, count] = columns[column];
+            REQUIRE(count > 20);
+            heights.push_back(sum / count);
+        }
+        return heights;
+    };
+    // How much of the whole change across the columns its largest jump between neighbours makes.
+    const auto steepest = [](const std::vector<double>& heights) {
+        double jump = 0.0;
+        for (std::size_t i = 1; i < heights.size(); ++i) jump = std::max(jump, std::abs(heights[i] - heights[i - 1]));
+        const auto [low, high] = std::minmax_element(heights.begin(), heights.end());
+        return jump / (*high - *low);
+    };
+    const std::vector<double> dual = standoffs("dual"), nearest = standoffs("nearest");
+    std::ostringstream profile;
+    for (std::size_t i = 0; i < dual.size(); ++i) profile << " " << dual[i] << "/" << nearest[i];
+    INFO("standoff per 0.5-unit column from x = -8 to 8, dual/nearest:" << profile.str());
+    INFO("the largest jump between neighbouring columns: dual " << steepest(dual) << ", nearest " << steepest(nearest)
+                                                                << " of the whole change");
+    CHECK(steepest(nearest) > 0.5);
+    CHECK(steepest(dual) < 0.25);
 }

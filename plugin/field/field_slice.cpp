@@ -1,8 +1,11 @@
 #include <vfield/field/field_slice.h>
 
 #include <vfield/core/error.h>
+#include <vfield/field/field_grid.h>
 
 #include <OpenImageIO/imagebufalgo.h>
+
+#include <openvdb/tools/Interpolation.h>
 
 #include <algorithm>
 #include <cmath>
@@ -34,6 +37,15 @@ public:
     {
         return Vec2d(mBorder + mUSign * (p[mUAxis] - mUStart) * mPixelsPerUnit,
                      mBorder + mVSign * (mVStart - p[mVAxis]) * mPixelsPerUnit);
+    }
+    /// The object-space point on the plane p[axis] = at under a pixel position.
+    Vec3d fromPixel(const Vec2d& pixel, int axis, double at) const
+    {
+        Vec3d p(0.0);
+        p[axis] = at;
+        p[mUAxis] = mUStart + mUSign * (pixel[0] - mBorder) / mPixelsPerUnit;
+        p[mVAxis] = mVStart - mVSign * (pixel[1] - mBorder) / mPixelsPerUnit;
+        return p;
     }
     /// A direction's in-plane part, in pixel axes (x right, y down), unscaled.
     Vec2d toPixelDirection(const Vec3d& d) const { return Vec2d(mUSign * d[mUAxis], -mVSign * d[mVAxis]); }
@@ -99,6 +111,7 @@ OIIO::ImageBuf drawFieldSlice(const OctreeField& field, const TriangleMesh& mesh
                          std::to_string(root.min()[options.axis]) + " .. " + std::to_string(root.max()[options.axis]));
     if (options.size != 0 && (options.size < 64 || options.size > 16384))
         throw ValueError("slice size must be within 64..16384 pixels");
+    if (options.sampling == FieldSampling::Trilinear) throw ValueError("slices are drawn nearest or dual, not trilinear");
 
     const int size = options.size != 0 ? options.size : std::clamp(12 << std::min(field.depth() - 1, 12), 1024, 4096);
     const int border = 16;
@@ -121,6 +134,10 @@ OIIO::ImageBuf drawFieldSlice(const OctreeField& field, const TriangleMesh& mesh
 
     // Magnitude on a log scale from the slice's weakest to its strongest cell,
     // through viridis; zero force stays at the dark end.
+    const double range = std::log(strongest / weakest);
+    const auto shade = [&](double m) {
+        return m <= 0 ? 0.0f : range > 0 ? float(std::clamp(0.1 + 0.9 * std::log(m / weakest) / range, 0.0, 1.0)) : 1.0f;
+    };
     const OIIO::ImageSpec scalarSpec(extent, extent, 1, OIIO::TypeDesc::FLOAT);
     OIIO::ImageBuf magnitude(scalarSpec);
     OIIO::ImageBufAlgo::zero(magnitude);
@@ -129,11 +146,29 @@ OIIO::ImageBuf drawFieldSlice(const OctreeField& field, const TriangleMesh& mesh
         const Vec2d a = projection.toPixel(leaf.bounds.min()), b = projection.toPixel(leaf.bounds.max());
         const Vec2d lo(std::min(a[0], b[0]), std::min(a[1], b[1])), hi(std::max(a[0], b[0]), std::max(a[1], b[1]));
         boxes.emplace_back(lo, hi);
-        const double m = leaf.force.length();
-        const double range = std::log(strongest / weakest);
-        const float value = m <= 0 ? 0.0f : range > 0 ? float(0.1 + 0.9 * std::log(m / weakest) / range) : 1.0f;
+        const float value = shade(leaf.force.length());
         const OIIO::ROI roi(int(std::lround(lo[0])), int(std::lround(hi[0])), int(std::lround(lo[1])), int(std::lround(hi[1])));
         OIIO::ImageBufAlgo::fill(magnitude, {&value, 1}, roi);
+    }
+    // The continuous field, read at every pixel's centre, and at the leaves' centres for the arrows.
+    std::vector<Vec3d> arrows;
+    for (const FieldLeaf& leaf : cut) arrows.push_back(Vec3d(leaf.force));
+    if (options.sampling == FieldSampling::Dual) {
+        const openvdb::Vec3SGrid::Ptr smooth = smoothForceGrid(field);
+        const openvdb::Vec3SGrid::ConstAccessor reads = smooth->getConstAccessor();
+        const openvdb::tools::GridSampler<openvdb::Vec3SGrid::ConstAccessor, openvdb::tools::BoxSampler> sampler(
+            reads, smooth->transform());
+        for (int y = border; y < extent - border; ++y)
+            for (int x = border; x < extent - border; ++x) {
+                const float value =
+                    shade(sampler.wsSample(projection.fromPixel(Vec2d(x + 0.5, y + 0.5), options.axis, options.at)).length());
+                magnitude.setpixel(x, y, &value);
+            }
+        for (std::size_t i = 0; i < cut.size(); ++i) {
+            Vec3d centre = cut[i].bounds.getCenter();
+            centre[options.axis] = options.at;
+            arrows[i] = Vec3d(sampler.wsSample(centre));
+        }
     }
     OIIO::ImageBuf image = OIIO::ImageBufAlgo::color_map(magnitude, 0, "viridis");
     if (image.has_error()) throw ValueError("cannot colour the slice: " + image.geterror());
@@ -152,8 +187,8 @@ OIIO::ImageBuf drawFieldSlice(const OctreeField& field, const TriangleMesh& mesh
         if (width >= 5.0)
             OIIO::ImageBufAlgo::render_box(image, int(std::lround(lo[0])), int(std::lround(lo[1])), int(std::lround(hi[0])),
                                            int(std::lround(hi[1])), {kOutline, 3});
-        if (width >= 10.0 && cut[i].force.length() > 0)
-            drawArrow(image, (lo + hi) * 0.5, projection.toPixelDirection(Vec3d(cut[i].force).unitSafe()), 0.8 * width);
+        if (width >= 10.0 && arrows[i].length() > 0)
+            drawArrow(image, (lo + hi) * 0.5, projection.toPixelDirection(arrows[i].unitSafe()), 0.8 * width);
     }
 
     // The mesh's cut, on top.

@@ -81,8 +81,8 @@ public:
 
         OctreeField::Node node;
         node.level = uint8_t(level);
+        node.direction = direction; // interior nodes' too: the smooth field reads them (field_grid.h)
         if (!split) {
-            node.direction = direction;
             node.isSurface = !inside.empty();
             out[index] = node;
             int deepest = mDepth.load();
@@ -288,10 +288,11 @@ Vec3d OctreeField::hitTest(const std::vector<Vec3d>& points) const
     return average.unitSafe() * strongest;
 }
 
-void OctreeField::collectLeaves(uint32_t index, const uint32_t cell[3], std::vector<FieldLeaf>& out) const
+void OctreeField::collect(uint32_t index, const uint32_t cell[3], bool withInterior, std::vector<FieldLeaf>& out) const
 {
     const Node& node = mNodes[index];
-    if (node.firstChild == 0) {
+    const bool isLeaf = node.firstChild == 0;
+    if (isLeaf || withInterior) {
         FieldLeaf leaf;
         const int shift = mDepth - node.level;
         Vec3d min, max;
@@ -305,13 +306,14 @@ void OctreeField::collectLeaves(uint32_t index, const uint32_t cell[3], std::vec
         leaf.force = forceOf(node);
         leaf.level = node.level;
         leaf.isSurface = node.isSurface != 0;
+        leaf.isLeaf = isLeaf;
         out.push_back(leaf);
-        return;
     }
+    if (isLeaf) return;
     for (int octant = 0; octant < 8; ++octant) {
         const uint32_t child[3] = {2 * cell[0] + (octant & 1), 2 * cell[1] + ((octant >> 1) & 1),
                                    2 * cell[2] + ((octant >> 2) & 1)};
-        collectLeaves(node.firstChild + uint32_t(octant), child, out);
+        collect(node.firstChild + uint32_t(octant), child, withInterior, out);
     }
 }
 
@@ -320,7 +322,16 @@ std::vector<FieldLeaf> OctreeField::leaves() const
     std::vector<FieldLeaf> out;
     out.reserve(mLeafCount);
     const uint32_t root[3] = {0, 0, 0};
-    collectLeaves(0, root, out);
+    collect(0, root, false, out);
+    return out;
+}
+
+std::vector<FieldLeaf> OctreeField::nodes() const
+{
+    std::vector<FieldLeaf> out;
+    out.reserve(mNodes.size());
+    const uint32_t root[3] = {0, 0, 0};
+    collect(0, root, true, out);
     return out;
 }
 
@@ -329,11 +340,11 @@ std::vector<FieldLeaf> OctreeField::leavesOfOctant(int octant) const
     std::vector<FieldLeaf> out;
     const uint32_t root[3] = {0, 0, 0};
     if (mNodes[0].firstChild == 0) {
-        if (octant == 0) collectLeaves(0, root, out);
+        if (octant == 0) collect(0, root, false, out);
         return out;
     }
     const uint32_t cell[3] = {uint32_t(octant & 1), uint32_t((octant >> 1) & 1), uint32_t((octant >> 2) & 1)};
-    collectLeaves(mNodes[0].firstChild + uint32_t(octant), cell, out);
+    collect(mNodes[0].firstChild + uint32_t(octant), cell, false, out);
     return out;
 }
 

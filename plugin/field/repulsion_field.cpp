@@ -27,49 +27,22 @@ void RepulsionOptions::validate() const
 
 double RepulsionField::cellSize(int level) const { return mSide * std::ldexp(1.0, 1 - level); }
 
-RepulsionField::Sample RepulsionField::sample(Accessor& accessor, const Vec3d& local, FieldSampling sampling) const
+void RepulsionField::setSampling(FieldSampling sampling, openvdb::Vec3SGrid::Ptr sampled)
 {
-    const openvdb::Vec3d index = mForce->transform().worldToIndex(local);
-    const openvdb::Coord voxel = openvdb::Coord::round(index);
-    const int level = accessor.level.getValue(voxel);
-    if (sampling == FieldSampling::Nearest) return {Vec3d(accessor.force.getValue(voxel)), level};
-    if (sampling == FieldSampling::Trilinear || mMethod != RepulsionMethod::Octree || level < 1 || level >= mDepth) {
-        // The finest leaves' centres are the voxels' own: there the dual grid is the voxel grid.
-        openvdb::Vec3s f;
-        openvdb::tools::BoxSampler::sample(accessor.force, index, f);
-        return {Vec3d(f), level};
-    }
-    // Leaves of this level are `span` voxels wide and centred at k span + (span - 1) / 2;
-    // each lattice point reads the voxel at k span + span / 2, inside leaf k
-    // (or inside whichever finer leaf covers that spot of a neighbour). Beyond
-    // the outermost leaf centres the field stays at their value. A finer
-    // leaf read as a neighbour pushes no harder than the point's own leaf:
-    // otherwise a surface leaf's boost would reach a coarse leaf's width out.
-    const double strongest = Vec3d(accessor.force.getValue(voxel)).length();
-    const int span = 1 << (mDepth - level), leaves = 1 << (level - 1);
-    openvdb::Coord lo, hi;
-    double weight[3];
-    for (int axis = 0; axis < 3; ++axis) {
-        const double t = (index[axis] - 0.5 * (span - 1)) / span;
-        const double k = std::floor(t);
-        weight[axis] = t - k;
-        lo[axis] = std::clamp(int(k), 0, leaves - 1) * span + span / 2;
-        hi[axis] = std::clamp(int(k) + 1, 0, leaves - 1) * span + span / 2;
-    }
-    Vec3d corners[2][2][2];
-    for (int i = 0; i < 2; ++i)
-        for (int j = 0; j < 2; ++j)
-            for (int k = 0; k < 2; ++k) {
-                Vec3d& corner = corners[i][j][k];
-                corner = Vec3d(accessor.force.getValue(openvdb::Coord(i ? hi[0] : lo[0], j ? hi[1] : lo[1], k ? hi[2] : lo[2])));
-                const double magnitude = corner.length();
-                if (magnitude > strongest) corner *= strongest / magnitude;
-            }
-    const auto lerp = [](const Vec3d& a, const Vec3d& b, double w) { return a + (b - a) * w; };
-    Vec3d alongZ[2][2];
-    for (int i = 0; i < 2; ++i)
-        for (int j = 0; j < 2; ++j) alongZ[i][j] = lerp(corners[i][j][0], corners[i][j][1], weight[2]);
-    return {lerp(lerp(alongZ[0][0], alongZ[0][1], weight[1]), lerp(alongZ[1][0], alongZ[1][1], weight[1]), weight[0]), level};
+    mSampling = sampling;
+    mSampled = sampled ? std::move(sampled) : mForce;
+    mSampledOnLevelVoxels = mSampled->transform() == mLevel->transform();
+}
+
+RepulsionField::Sample RepulsionField::sample(Accessor& accessor, const Vec3d& local) const
+{
+    const openvdb::Vec3d index = mSampled->transform().worldToIndex(local);
+    const openvdb::Vec3d levelIndex = mSampledOnLevelVoxels ? index : mLevel->transform().worldToIndex(local);
+    const int level = accessor.level.getValue(openvdb::Coord::round(levelIndex));
+    if (mSampling == FieldSampling::Nearest) return {Vec3d(accessor.force.getValue(openvdb::Coord::round(index))), level};
+    openvdb::Vec3s f;
+    openvdb::tools::BoxSampler::sample(accessor.force, index, f);
+    return {Vec3d(f), level};
 }
 
 Vec3d RepulsionField::hitTest(const std::vector<Vec3d>& points) const
@@ -90,13 +63,17 @@ Vec3d RepulsionField::hitTest(const std::vector<Vec3d>& points) const
     return length < 1e-9 ? Vec3d(0.0) : directions * (strongest / length);
 }
 
-std::size_t RepulsionField::memoryBytes() const { return std::size_t(mForce->memUsage() + mLevel->memUsage()); }
+std::size_t RepulsionField::memoryBytes() const
+{
+    return std::size_t(mForce->memUsage() + mLevel->memUsage() + (mSampled != mForce ? mSampled->memUsage() : 0));
+}
 
 namespace {
 
 class OctreeRepulsion final : public RepulsionField {
 public:
-    OctreeRepulsion(const TriangleMesh& mesh, const OctreeFieldOptions& options) : mOctree(OctreeField::build(mesh, options))
+    OctreeRepulsion(const TriangleMesh& mesh, const OctreeFieldOptions& options, FieldSampling sampling)
+        : mOctree(OctreeField::build(mesh, options))
     {
         mMethod = RepulsionMethod::Octree;
         mBounds = mOctree.bounds();
@@ -107,6 +84,7 @@ public:
         const FieldGrids grids = voxelizeField(mOctree, voxelize);
         mForce = grids.force;
         mLevel = grids.level;
+        setSampling(sampling, sampling == FieldSampling::Dual ? smoothForceGrid(mOctree) : nullptr);
     }
     double cellSize(int level) const override { return mOctree.cellSize(level); }
     Vec3d hitTest(const std::vector<Vec3d>& points) const override { return mOctree.hitTest(points); }
@@ -120,7 +98,8 @@ private:
 /// the voxel and the level a distance maps to.
 class GridRepulsion final : public RepulsionField {
 public:
-    GridRepulsion(const TriangleMesh& mesh, const RepulsionOptions& options, const Vec3d& wind, const Progress& progress);
+    GridRepulsion(const TriangleMesh& mesh, const RepulsionOptions& options, FieldSampling sampling, const Vec3d& wind,
+                  const Progress& progress);
 
 private:
     /// The level of an octree cell about as large as the distance d (at most d, at least a voxel).
@@ -140,7 +119,7 @@ private:
     openvdb::math::Transform::Ptr mTransform;
 };
 
-GridRepulsion::GridRepulsion(const TriangleMesh& mesh, const RepulsionOptions& options, const Vec3d& wind,
+GridRepulsion::GridRepulsion(const TriangleMesh& mesh, const RepulsionOptions& options, FieldSampling sampling, const Vec3d& wind,
                              const Progress& progress)
     : mOptions(options)
 {
@@ -166,6 +145,8 @@ GridRepulsion::GridRepulsion(const TriangleMesh& mesh, const RepulsionOptions& o
     mForce->setName("force");
     mForce->setVectorType(openvdb::VEC_CONTRAVARIANT_RELATIVE);
     mLevel->setName("level");
+    // The voxels are the structure: dual sampling is trilinear.
+    setSampling(sampling == FieldSampling::Dual ? FieldSampling::Trilinear : sampling, nullptr);
 }
 
 openvdb::MaskGrid::Ptr GridRepulsion::rootMask() const
@@ -300,12 +281,12 @@ void GridRepulsion::buildPotentialFlow(const TriangleMesh& mesh, const Vec3d& wi
 } // namespace
 
 std::shared_ptr<const RepulsionField> RepulsionField::build(const TriangleMesh& mesh, const RepulsionOptions& options,
-                                                            const Vec3d& wind, const Progress& progress)
+                                                            FieldSampling sampling, const Vec3d& wind, const Progress& progress)
 {
     options.validate();
     openvdb::initialize(); // OpenVDB's solvers log through it
-    if (options.method == RepulsionMethod::Octree) return std::make_shared<OctreeRepulsion>(mesh, options.field);
-    return std::make_shared<GridRepulsion>(mesh, options, wind, progress);
+    if (options.method == RepulsionMethod::Octree) return std::make_shared<OctreeRepulsion>(mesh, options.field, sampling);
+    return std::make_shared<GridRepulsion>(mesh, options, sampling, wind, progress);
 }
 
 } // namespace vfield

@@ -135,7 +135,9 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
     }
     if (!fs::exists(folder.fieldFile())) {
         preparing("writing the static field, " + folder.fieldFile());
-        writeVdb(folder.fieldFile(), {simulator.staticForceGrid()});
+        const openvdb::Vec3SGrid::Ptr field = simulator.staticForceGrid();
+        field->setSaveFloatAsHalf(true); // for looking at; the dense continuous field is 112 MB in full floats
+        writeVdb(folder.fieldFile(), {field});
     }
 
     std::vector<std::size_t> dynamic;

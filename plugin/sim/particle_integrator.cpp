@@ -68,7 +68,7 @@ Simulator::FieldsAt Simulator::fieldsAt(const Vec3d& p, double time, double mass
         if (field.bounds().isInside(local)) {
             // The leaf's level from the voxel holding p: finest-leaf voxels never straddle a leaf.
             if (withForces) {
-                const RepulsionField::Sample sample = field.sample(accessors[k], local, mSetup.options.sampling);
+                const RepulsionField::Sample sample = field.sample(accessors[k], local);
                 (field.isFlow() ? flow : force) += isRotated(pose) ? pose.rotateToWorld(sample.force) : sample.force;
                 if (field.isFlow() && sample.level > 0) at.inFlow = true;
                 level = sample.level;

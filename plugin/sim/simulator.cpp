@@ -49,9 +49,9 @@ Simulator::Simulator(const SimulationSetup& setup, const Preparing& preparing) :
             report(name + ": " + enumName(object.spec->repulsion->method) + " field of " +
                    std::to_string(object.mesh.triangleCount()) + " triangles");
             const auto start = std::chrono::steady_clock::now();
-            object.field =
-                RepulsionField::build(object.mesh, *object.spec->repulsion, object.spec->transform.rotateToObject(cloudsWind),
-                                      [&](const std::string& step) { report(name + ": " + step); });
+            object.field = RepulsionField::build(object.mesh, *object.spec->repulsion, mSetup.options.sampling,
+                                                 object.spec->transform.rotateToObject(cloudsWind),
+                                                 [&](const std::string& step) { report(name + ": " + step); });
             object.fieldSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         }
         object.isClosed = analyzeTopology(object.mesh).isClosed();
@@ -146,7 +146,7 @@ openvdb::Vec3SGrid::Ptr Simulator::staticForceGrid() const
         if (object.spec->isDynamic) continue;
         const Transform& pose = mStates[i].pose;
         // Forces rotate with the object; positions follow its transform.
-        openvdb::Vec3SGrid::Ptr world = object.field->force()->deepCopy();
+        openvdb::Vec3SGrid::Ptr world = object.field->sampledForce()->deepCopy();
         if (!pose.rotation.eq(Quatd::identity()))
             for (auto it = world->tree().beginValueOn(); it; ++it) it.setValue(openvdb::Vec3s(pose.rotateToWorld(Vec3d(*it))));
         world->transform().postMult(pose.matrix());

@@ -22,6 +22,12 @@ Runner registerFieldSlice(CLI::App& app, const GlobalOptions& global)
         ->transform(CLI::CheckedTransformer(std::map<std::string, int>{{"x", 0}, {"y", 1}, {"z", 2}}))
         ->default_str("z");
     command->add_option("--at", o->slice.at, "Position of the plane along the axis, object units")->capture_default_str();
+    command
+        ->add_option("--sampling", o->slice.sampling,
+                     "nearest: each leaf's own force (the paper's field); dual: the continuous field particles read")
+        ->transform(CLI::CheckedTransformer(
+            std::map<std::string, FieldSampling>{{"nearest", FieldSampling::Nearest}, {"dual", FieldSampling::Dual}}))
+        ->default_str("nearest");
     command->add_option("--size", o->slice.size, "Picture edge in pixels [default: finest cells 12 pixels wide]");
     command->add_option("-o,--output", o->output, "Output image (.png, .exr, ...)")->required();
 

@@ -41,4 +41,21 @@ struct FieldGrids {
 /// background (zero) applies.
 FieldGrids voxelizeField(const OctreeField& field, const VoxelizeOptions& options = {});
 
+/// The deepest level the smooth force grid is made at: 256^3 voxels (200 MB)
+/// at most. Cells of this level cut finer take the average of their leaves.
+constexpr int kSmoothForceMaxLevel = 9;
+
+/// The field made continuous (FieldSampling::Dual), object space: a force
+/// per cell centre of level min(depth, kSmoothForceMaxLevel), to be read
+/// trilinearly. Built coarse to fine: a level's lattice of cell centres
+/// holds each node's own force where a node of that level lies (a leaf's, or
+/// an interior node's unboosted average normal), and elsewhere, inside a
+/// coarser leaf, the coarser lattices' trilinear interpolant. So between
+/// leaves of one level the force changes linearly from centre to centre, and
+/// where the level changes it turns from the coarse leaf's force to the
+/// finer ones' over half the coarse leaf's width instead of stepping at the
+/// face; a surface leaf's boost reaches at most one of its widths beyond it.
+/// Every voxel of the root is active (memory: the dense lattice).
+openvdb::Vec3SGrid::Ptr smoothForceGrid(const OctreeField& field);
+
 } // namespace vfield

@@ -24,7 +24,7 @@
 /// - A point's force is that of the leaf containing it: cells are half-open
 ///   [min, max) per axis, closed on the root's max faces; outside the root the
 ///   force is zero and the level 0.
-/// After building, only leaves and the structure to find them are kept.
+/// After building, the nodes (each with its direction) are kept, not the triangles.
 
 #include <vfield/core/fields.h>
 #include <vfield/core/math.h>
@@ -119,7 +119,8 @@ struct FieldSample {
     bool isSurface = false;        ///< the leaf holds triangles
 };
 
-/// A leaf of the octree, for drawing and voxelizing.
+/// A leaf of the octree (or, from OctreeField::nodes(), any node), for
+/// drawing and voxelizing.
 struct FieldLeaf {
     BBoxd bounds;       ///< object space
     uint32_t origin[3]; ///< min corner in cells of the finest level present (depth())
@@ -127,6 +128,9 @@ struct FieldLeaf {
     Vec3f force;
     int level;
     bool isSurface;
+    /// False for an interior node: its own force is its triangles' average
+    /// normal x the magnitude of its level, without the surface boost.
+    bool isLeaf = true;
 };
 
 class OctreeField {
@@ -162,6 +166,8 @@ public:
 
     /// Every leaf, depth first, octants in x-fastest order.
     std::vector<FieldLeaf> leaves() const;
+    /// Every node, interior ones too (FieldLeaf::isLeaf), each before its children.
+    std::vector<FieldLeaf> nodes() const;
     /// The leaves under the root's octant `octant` (0..7, x-fastest), or the
     /// root itself for octant 0 when the root is a leaf: lets callers split work.
     std::vector<FieldLeaf> leavesOfOctant(int octant) const;
@@ -169,7 +175,7 @@ public:
     /// Internal node record (public for the builder; not part of the API).
     struct Node {
         uint32_t firstChild = 0;           ///< index of the first of 8 children; 0 for a leaf
-        Vec3f direction{0.0f, 0.0f, 0.0f}; ///< unit or zero (leaves only after build)
+        Vec3f direction{0.0f, 0.0f, 0.0f}; ///< unit or zero
         uint8_t level = 0;
         uint8_t isSurface = 0;
     };
@@ -178,7 +184,7 @@ private:
     OctreeField() = default;
     double boundary(int axis, uint32_t index, int level) const;
     Vec3f forceOf(const Node& node) const;
-    void collectLeaves(uint32_t node, const uint32_t cell[3], std::vector<FieldLeaf>& out) const;
+    void collect(uint32_t node, const uint32_t cell[3], bool withInterior, std::vector<FieldLeaf>& out) const;
 
     OctreeFieldOptions mOptions;
     Vec3d mCenter{0.0};

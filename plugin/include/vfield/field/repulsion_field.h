@@ -55,14 +55,10 @@ constexpr const auto& enumNames(RepulsionMethod) { return kRepulsionMethodNames;
 enum class FieldSampling {
     Nearest,   ///< the voxel holding the point: the paper's field, constant over each octree leaf
     Trilinear, ///< trilinear between voxel centres: smooth only within the finest cells
-    /// Octree: trilinear between the centres of the leaves of the point's own
-    /// level around it (the octree's dual grid), so between two neighbouring
-    /// leaves of one level the force changes linearly from one's to the
-    /// other's instead of stepping at their face. A neighbour read where
-    /// finer leaves lie pushes no harder than the point's own leaf (a
-    /// surface leaf's boost stays near the surface), so where the level
-    /// changes a smaller step remains. Other methods, whose voxels are their
-    /// structure: Trilinear.
+    /// Octree: continuous everywhere (smoothForceGrid, field_grid.h): across
+    /// the faces between leaves of one level and across changes of level the
+    /// force turns over a leaf's width instead of stepping at the face. Other
+    /// methods, whose voxels are their structure: Trilinear.
     Dual
 };
 inline constexpr EnumName<FieldSampling> kFieldSamplingNames[] = {
@@ -107,7 +103,9 @@ public:
     /// units) is what potentialFlow deflects; the other methods ignore it.
     /// Throws ValueError for invalid options, a mesh without triangles of
     /// non-zero area, or a potential flow whose solve does not converge.
+    /// sample() reads it as `sampling` says.
     static std::shared_ptr<const RepulsionField> build(const TriangleMesh& mesh, const RepulsionOptions& options,
+                                                       FieldSampling sampling = FieldSampling::Dual,
                                                        const Vec3d& wind = Vec3d(0.0), const Progress& progress = {});
     virtual ~RepulsionField() = default;
 
@@ -122,24 +120,29 @@ public:
     virtual double cellSize(int level) const;
     double finestCellSize() const { return cellSize(mDepth); }
 
-    /// Object space, acceleration units x mass (isFlow(): acceleration); zero outside bounds().
+    FieldSampling sampling() const { return mSampling; }
+    /// Object space, acceleration units x mass (isFlow(): acceleration); zero
+    /// outside bounds(). The octree's: the paper's field, constant over each leaf.
     const openvdb::Vec3SGrid::Ptr& force() const { return mForce; }
+    /// The force as sample() reads it: force(), or with Dual sampling of an
+    /// octree its smooth grid.
+    const openvdb::Vec3SGrid::Ptr& sampledForce() const { return mSampled; }
     /// Levels on the force's voxels (1..depth(); 0 where the field is zero).
     const openvdb::Int32Grid::Ptr& level() const { return mLevel; }
 
-    /// Cached reads of force() and level(), one per thread.
+    /// Cached reads of sampledForce() and level(), one per thread.
     struct Accessor {
         openvdb::Vec3SGrid::ConstAccessor force;
         openvdb::Int32Grid::ConstAccessor level;
     };
-    Accessor accessor() const { return {mForce->getConstAccessor(), mLevel->getConstAccessor()}; }
+    Accessor accessor() const { return {mSampled->getConstAccessor(), mLevel->getConstAccessor()}; }
     struct Sample {
         Vec3d force; ///< as force() holds it
         int level;   ///< of the voxel holding the point: cellSize(level) is the structure there
     };
-    /// The force at an object-space point (zero outside bounds()) and the
-    /// level there, in one lookup of the level: what a substep needs.
-    Sample sample(Accessor& accessor, const Vec3d& local, FieldSampling sampling) const;
+    /// The force at an object-space point (zero outside bounds()), read as
+    /// sampling() says, and the level there: what a substep needs.
+    Sample sample(Accessor& accessor, const Vec3d& local) const;
 
     /// The paper's hit test of another object's points (object space of this
     /// field): the normalized average of the unit directions at the points
@@ -153,11 +156,16 @@ public:
 protected:
     RepulsionField() = default;
 
+    /// Sets the sampling and the grid it reads, after mForce and mLevel exist.
+    void setSampling(FieldSampling sampling, openvdb::Vec3SGrid::Ptr sampled);
+
     RepulsionMethod mMethod = RepulsionMethod::Octree;
+    FieldSampling mSampling = FieldSampling::Nearest;
+    bool mSampledOnLevelVoxels = true; ///< sampledForce() and level() share their voxels
     BBoxd mBounds;
     double mSide = 0.0;
     int mDepth = 1;
-    openvdb::Vec3SGrid::Ptr mForce;
+    openvdb::Vec3SGrid::Ptr mForce, mSampled;
     openvdb::Int32Grid::Ptr mLevel;
 };
 

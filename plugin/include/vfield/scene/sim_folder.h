@@ -3,7 +3,7 @@
 /// A simulation folder, the one place that knows its files' names and reads
 /// and writes them (their formats: tracks.h, stats_file.h, run_state.h): what
 /// `vfield simulate` writes and what renderers, `export-mesh` and hosts read.
-///   field.vdb            the static objects' combined `force` grid, world space
+///   field.vdb            the static objects' combined `force` grid as particles read it, world space
 ///   density.####.vdb     `density` (FloatGrid) and `vel` (Vec3SGrid), world space
 ///   particles.####.vdb   `particles` (PointDataGrid: P, v, id, pscale)
 ///     each frame file carries, as file metadata, the inputs hash of the run

@@ -198,7 +198,7 @@ struct UniformFieldSpec {
 struct SimulationOptions {
     using Sampling = FieldSampling;
     /// How particles read the objects' fields (FieldSampling): dual, continuous
-    /// across octree leaf faces; nearest, the paper's field, constant over each leaf.
+    /// across octree leaf faces and changes of level; nearest, the paper's field, constant over each leaf.
     Sampling sampling = Sampling::Dual;
     /// Nothing moves more than cfl x (the finest leaf size of any field) in one substep (1e-3..1).
     double cfl = 0.5;
@@ -220,8 +220,9 @@ struct SimulationOptions {
     static void visitFields(Self& self, Visitor& visit)
     {
         visit(field("sampling", self.sampling)
-                  .doc("how particles read the fields: dual, octree leaf forces interpolated between leaf centres, "
-                       "continuous across leaf faces; nearest, the paper's exact leaf forces, constant over each leaf; "
+                  .doc("how particles read the fields: dual, octree leaf forces refined level by level between leaf "
+                       "centres, continuous across leaf faces and changes of level; nearest, the paper's exact leaf forces, "
+                       "constant over each leaf; "
                        "trilinear, between voxel centres, smooth within the finest leaves only"));
         visit(field("cfl", self.cfl)
                   .range(1e-3, 1)

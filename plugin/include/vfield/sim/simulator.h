@@ -111,7 +111,8 @@ public:
     /// the dynamic objects' shared substeps (particles use the cells around them).
     double finestCellSize() const { return mFinestCell; }
 
-    /// The static objects' forces summed into one world-space grid.
+    /// The static objects' forces as particles read them (RepulsionField::sampledForce)
+    /// summed into one world-space grid.
     openvdb::Vec3SGrid::Ptr staticForceGrid() const;
 
     /// The state after the current frame, to resume from (bit-exact).
