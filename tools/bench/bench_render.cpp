@@ -1,9 +1,14 @@
 // Benchmarks of the Embree back-end on the cloud showcase at frame 100: a
-// surface-only frame, and a cloud frame with and without empty-space skipping.
+// surface-only frame, and a cloud frame with and without empty-space
+// skipping; and the main job's frame 120 with more and more particles.
 
 #include "bench_showcase.h"
 
+#include <vfield/volume/density_splat.h>
+
 #include <benchmark/benchmark.h>
+
+#include <limits>
 
 using namespace vfield;
 using namespace vfield::bench;
@@ -29,6 +34,7 @@ BENCHMARK(BM_RenderSurfaces)
     ->Args({640, 360, 4})
     ->Args({1280, 720, 1})
     ->Args({1280, 720, 4})
+    ->Args({1920, 1080, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
@@ -52,7 +58,27 @@ BENCHMARK(BM_RenderCloud)
     ->Args({640, 360, 4, 1})
     ->Args({1280, 720, 1, 1})
     ->Args({1280, 720, 4, 1})
+    ->Args({1920, 1080, 1, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+/// The main job's frame 120 at 640x360, 1 spp, with its bank splatted from
+/// `particles` particles (outside the timing): what the cloud's particle
+/// count costs the render.
+void BM_RenderMainJob(benchmark::State& state)
+{
+    const MainJobFrame& job = mainJobAtFrame120(state.range(0));
+    const RenderSettings settings = job.settings(640, 360, 1);
+    const openvdb::FloatGrid::Ptr density = splatParticles(job.simulator->particles(), job.scene.volume).density;
+    const CloudLighting::Occlusion sunBlocked = [&job](const Vec3d& origin, const Vec3d& dir) {
+        return job.surfaces->occluded(origin, dir, 1e-3, std::numeric_limits<double>::max());
+    };
+    for (auto _ : state) {
+        const CloudLighting lighting(density, settings.medium, settings.sun.direction, sunBlocked);
+        const CloudVolume volume(lighting, settings.medium, settings.integrator);
+        benchmark::DoNotOptimize(renderFrame(job.frame(settings, &volume)));
+    }
+}
+BENCHMARK(BM_RenderMainJob)->Apply(mainJobCounts)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 } // namespace

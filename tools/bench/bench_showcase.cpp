@@ -38,7 +38,9 @@ ShowcaseFrame::ShowcaseFrame() : scene(loadScene(VFIELD_SCENES_DIR "/cloud_over_
     surfaces.commit();
 }
 
-RenderSettings ShowcaseFrame::settings(int width, int height, int spp) const
+namespace {
+
+RenderSettings sceneSettingsAt(const Scene& scene, int width, int height, int spp)
 {
     RenderSettings settings = scene.render;
     settings.image.width = width;
@@ -47,18 +49,31 @@ RenderSettings ShowcaseFrame::settings(int width, int height, int spp) const
     return settings;
 }
 
-FrameToRender ShowcaseFrame::frame(const RenderSettings& settings, const CloudVolume* volume)
+/// A frame of terrain (object 0) and cloud, seen through the settings' camera.
+FrameToRender terrainFrame(const RenderSettings& settings, const SurfaceScene& surfaces, const CloudVolume* volume, int frame)
 {
     FrameToRender f;
     f.settings = &settings;
     f.surfaces = &surfaces;
     f.materials[0] = SurfaceMaterial::terrain();
     f.volume = volume;
-    f.frame = 100;
+    f.frame = frame;
     f.camera = Camera::fromSettings(settings.camera, settings.image.width, settings.image.height);
     f.terrainLow = surfaces.staticBounds().min()[1];
     f.terrainHigh = surfaces.staticBounds().max()[1];
     return f;
+}
+
+} // namespace
+
+RenderSettings ShowcaseFrame::settings(int width, int height, int spp) const
+{
+    return sceneSettingsAt(scene, width, height, spp);
+}
+
+FrameToRender ShowcaseFrame::frame(const RenderSettings& settings, const CloudVolume* volume)
+{
+    return terrainFrame(settings, surfaces, volume, 100);
 }
 
 CloudLighting::Occlusion ShowcaseFrame::sunBlocked() const
@@ -72,6 +87,40 @@ ShowcaseFrame& showcase()
 {
     static ShowcaseFrame frame;
     return frame;
+}
+
+MainJobFrame& mainJobAtFrame120(int64_t particles)
+{
+    static std::map<int64_t, MainJobFrame> cache;
+    static SurfaceScene terrain;
+    MainJobFrame& job = cache[particles];
+    if (!job.simulator) {
+        job.scene = loadScene(VFIELD_SCENES_DIR "/cloud_bank.json");
+        job.scene.simulation.clouds[0].count = particles;
+        job.simulator = std::make_unique<Simulator>(job.scene.simulation);
+        while (job.simulator->frame() < 120) job.simulator->advanceFrame();
+        if (terrain.staticBounds().empty()) {
+            TriangleMesh mesh = job.simulator->objects()[0].mesh;
+            mesh.transform(job.scene.simulation.objects[0].transform.matrix());
+            terrain.addStatic(0, mesh, Transform{});
+            terrain.commit();
+        }
+        job.surfaces = &terrain;
+    }
+    return job;
+}
+
+RenderSettings MainJobFrame::settings(int width, int height, int spp) const { return sceneSettingsAt(scene, width, height, spp); }
+
+FrameToRender MainJobFrame::frame(const RenderSettings& settings, const CloudVolume* volume) const
+{
+    return terrainFrame(settings, *surfaces, volume, 120);
+}
+
+void mainJobCounts(benchmark::internal::Benchmark* benchmark)
+{
+    benchmark->ArgName("particles");
+    for (const int64_t particles : {125'000, 250'000, 500'000, 1'000'000}) benchmark->Arg(particles);
 }
 
 } // namespace vfield::bench

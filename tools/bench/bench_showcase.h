@@ -7,6 +7,8 @@
 #include <vfield/scene/scene.h>
 #include <vfield/sim/simulator.h>
 
+#include <benchmark/benchmark.h>
+
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -39,5 +41,21 @@ struct ShowcaseFrame {
 
 /// Built once.
 ShowcaseFrame& showcase();
+
+/// The main job (scenes/cloud_bank.json) at frame 120, its bank on the
+/// ridge, with `particles` particles; simulated once per count. The terrain's
+/// surfaces are built once and shared.
+struct MainJobFrame {
+    Scene scene;
+    std::unique_ptr<Simulator> simulator;
+    const SurfaceScene* surfaces = nullptr; ///< the terrain, world space
+    /// The scene's render settings at another image size and sample count.
+    RenderSettings settings(int width, int height, int spp) const;
+    /// The frame to render with settings (which must outlive it).
+    FrameToRender frame(const RenderSettings& settings, const CloudVolume* volume) const;
+};
+MainJobFrame& mainJobAtFrame120(int64_t particles);
+/// The particle counts of the main job's scaling rows, 125,000 doubled to 1,000,000.
+void mainJobCounts(benchmark::internal::Benchmark* benchmark);
 
 } // namespace vfield::bench

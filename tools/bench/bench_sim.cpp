@@ -1,13 +1,23 @@
 // Benchmarks of the simulation stage: one frame of the cloud showcase (all
-// fields applied, adaptive substeps) and the density splat.
+// fields applied, adaptive substeps), the density splat, and the main job's
+// volume stage against OpenVDB's own rasterizer.
 
 #include "bench_showcase.h"
 
+#include <vfield/scene/sim_folder.h>
+#include <vfield/sim/clearance.h>
 #include <vfield/volume/density_splat.h>
+#include <vfield/volume/particle_grid.h>
+
+#include <openvdb/points/PointRasterizeFrustum.h>
 
 #include <benchmark/benchmark.h>
 
 #include <tbb/global_control.h>
+
+#include <filesystem>
+#include <map>
+#include <memory>
 
 using namespace vfield;
 using namespace vfield::bench;
@@ -59,5 +69,57 @@ BENCHMARK(BM_DensitySplat)
     ->Arg(1'000'000)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+/// What a frame of the main job spends after its particles moved: the
+/// splat, the detail, and writing the density and particle files.
+void BM_VolumeStage(benchmark::State& state)
+{
+    MainJobFrame& frame = mainJobAtFrame120(state.range(0));
+    const std::string dir = (std::filesystem::temp_directory_path() / "vfield-bench-volume").string();
+    std::filesystem::create_directories(dir);
+    const SimFolder folder(dir);
+    const ParticleSet& particles = frame.simulator->particles();
+    for (auto _ : state)
+        folder.writeFrame(120, splatParticles(particles, frame.scene.volume),
+                          makeParticleGrid(particles, frame.scene.volume.particlePrecision), 0);
+    state.counters["particles"] = double(particles.size());
+}
+BENCHMARK(BM_VolumeStage)->Apply(mainJobCounts)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+/// The main job's clearance measure: every particle against the terrain's
+/// exact level set (its distance field built once, outside the timing).
+void BM_Clearance(benchmark::State& state)
+{
+    MainJobFrame& frame = mainJobAtFrame120(state.range(0));
+    static std::map<int64_t, std::unique_ptr<ClearanceProbe>> probes;
+    std::unique_ptr<ClearanceProbe>& probe = probes[state.range(0)];
+    if (!probe) probe = std::make_unique<ClearanceProbe>(*frame.simulator);
+    for (auto _ : state) benchmark::DoNotOptimize(probe->measureParticles());
+}
+BENCHMARK(BM_Clearance)->Apply(mainJobCounts)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+/// OpenVDB's own splat of the same particles into the grid the frame
+/// writes (its voxel, the detail's, with arg 1; the splat's with arg 0):
+/// points::FrustumRasterizer on a linear transform, each particle a sphere
+/// as wide as the splat's kernel, its uniform density accumulated.
+void BM_RawOpenVdbSplat(benchmark::State& state)
+{
+    MainJobFrame& frame = mainJobAtFrame120(250'000);
+    const VolumeOptions volume = frame.scene.volume.resolved(frame.scene.simulation.clouds[0].particleRadius);
+    const ParticleSet& particles = frame.simulator->particles();
+    openvdb::points::PointDataGrid::Ptr points =
+        openvdb::gridPtrCast<openvdb::points::PointDataGrid>(makeParticleGrid(particles, ParticlePrecision::Full));
+    const double voxel = state.range(0) == 1 && volume.detail.enabled() ? volume.detail.voxelSize : volume.voxelSize;
+    openvdb::points::FrustumRasterizerSettings settings(*openvdb::math::Transform::createLinearTransform(voxel));
+    settings.useRadius = true; // pscale, the particle's radius
+    settings.radiusScale = float(volume.kernelRadius / frame.scene.simulation.clouds[0].particleRadius);
+    openvdb::points::FrustumRasterizer<openvdb::points::PointDataGrid> rasterizer(settings);
+    openvdb::points::PointDataGrid::ConstPtr input = points;
+    rasterizer.addPoints(input);
+    for (auto _ : state) benchmark::DoNotOptimize(rasterizer.rasterizeUniformDensity(openvdb::points::RasterMode::ACCUMULATE));
+    state.counters["particles"] = double(particles.size());
+    state.counters["voxel"] = voxel;
+}
+BENCHMARK(BM_RawOpenVdbSplat)->ArgName("detailVoxel")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 } // namespace

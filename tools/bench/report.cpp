@@ -135,6 +135,15 @@ int main(int argc, char** argv)
         }
         const Samples& splat = r.time("BM_DensitySplat/particles:1000000");
         row({"density splat, 1M particles", spread(splat, "%.0f", "ms"), "", "", "<= 100 ms", verdict(splat.median() <= 100.0)});
+        {
+            const Samples& stage = r.time("BM_VolumeStage/particles:250000");
+            const Samples& raw = r.time("BM_RawOpenVdbSplat/detailVoxel:0");
+            const double ratio = stage.median() / raw.median();
+            row({"main job's volume stage, frame 120 (splat + detail + write)", spread(stage, "%.0f", "ms"),
+                 spread(raw, "%.0f", "ms") + " raw OpenVDB splat (FrustumRasterizer, splat voxel); " +
+                     spread(r.time("BM_RawOpenVdbSplat/detailVoxel:1"), "%.0f", "ms") + " at the detail's voxel",
+                 format("%.2f", ratio) + "x the raw", "<= 2x", verdict(ratio <= 2.0)});
+        }
         for (const auto& [w, h] : std::vector<std::pair<std::string, std::string>>{{"640", "360"}, {"1280", "720"}}) {
             const Samples& ours = r.time("BM_RenderSurfaces/w:" + w + "/h:" + h + "/spp:1");
             const Samples& raw = r.time("BM_RawEmbreeRays/w:" + w + "/h:" + h);
@@ -177,10 +186,27 @@ int main(int argc, char** argv)
                 {"BM_DensitySplat/particles:125000", "BM_DensitySplat/particles:250000", "BM_DensitySplat/particles:500000",
                  "BM_DensitySplat/particles:1000000"},
                 "125k-1M particles");
+        const auto mainJob = [](const std::string& benchmark) {
+            std::vector<std::string> names;
+            for (const char* particles : {"125000", "250000", "500000", "1000000"})
+                names.push_back(benchmark + "/particles:" + particles);
+            return names;
+        };
+        scaling("the main job's volume stage (splat, detail, write; frame 120)", mainJob("BM_VolumeStage"), "125k-1M particles");
+        scaling("the main job's clearance (frame 120)", mainJob("BM_Clearance"), "125k-1M particles");
+        scaling("the main job's frame 120 rendered, 640x360, 1 spp", mainJob("BM_RenderMainJob"), "125k-1M particles");
         scaling("surfaces-only frame",
                 {"BM_RenderSurfaces/w:320/h:180/spp:1", "BM_RenderSurfaces/w:452/h:254/spp:1",
                  "BM_RenderSurfaces/w:640/h:360/spp:1", "BM_RenderSurfaces/w:905/h:509/spp:1"},
                 "320x180-905x509 pixels");
+        scaling("surfaces-only frame, to full HD",
+                {"BM_RenderSurfaces/w:640/h:360/spp:1", "BM_RenderSurfaces/w:1280/h:720/spp:1",
+                 "BM_RenderSurfaces/w:1920/h:1080/spp:1"},
+                "640x360-1920x1080 (pixels x4, x2.25)");
+        scaling("cloud frame, 1 spp",
+                {"BM_RenderCloud/w:320/h:180/spp:1/skip:1", "BM_RenderCloud/w:640/h:360/spp:1/skip:1",
+                 "BM_RenderCloud/w:1280/h:720/spp:1/skip:1", "BM_RenderCloud/w:1920/h:1080/spp:1/skip:1"},
+                "320x180-1920x1080 (pixels x4, x4, x2.25)");
     } catch (const std::exception& e) {
         std::cerr << "vfield_bench_report: " << argv[1] << ": " << e.what() << "\n";
         return 1;
