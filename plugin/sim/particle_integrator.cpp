@@ -55,8 +55,10 @@ Simulator::FieldsAt Simulator::fieldsAt(const Vec3d& p, double time, double mass
         const std::size_t i = mRepulsive[k];
         const SimObject& object = mObjects[i];
         const RepulsionField& field = *object.field;
-        const Transform pose = object.spec->isDynamic ? poseAt(i, time) : mStates[i].pose;
-        const Vec3d local = objectPoint(pose, p);
+        Transform moving;
+        const Transform& pose = object.spec->isDynamic ? (moving = poseAt(i, time)) : mStates[i].pose;
+        const bool inWorld = mWorldIsObject[i];
+        const Vec3d local = inWorld ? p : objectPoint(pose, p);
         // A moving field reaches whatever its root sweeps over during the frame.
         const double sweep = k < mFieldSpeed.size() ? mFieldSpeed[k] * mFieldFrameTime / pose.scale : 0.0;
         if (sweep > 0.0) {
@@ -69,7 +71,7 @@ Simulator::FieldsAt Simulator::fieldsAt(const Vec3d& p, double time, double mass
             // The leaf's level from the voxel holding p: finest-leaf voxels never straddle a leaf.
             if (withForces) {
                 const RepulsionField::Sample sample = field.sample(accessors[k], local);
-                (field.isFlow() ? flow : force) += isRotated(pose) ? pose.rotateToWorld(sample.force) : sample.force;
+                (field.isFlow() ? flow : force) += !inWorld && isRotated(pose) ? pose.rotateToWorld(sample.force) : sample.force;
                 if (field.isFlow() && sample.level > 0) at.inFlow = true;
                 level = sample.level;
             } else {
@@ -116,16 +118,19 @@ bool Simulator::resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t,
     for (std::size_t k = 0; k < mContact.size(); ++k) {
         const std::size_t i = mContact[k];
         const MeshDistance& distance = *mObjects[i].distance;
-        const Transform before = poseAt(i, t), after = poseAt(i, t + dt);
+        const bool isDynamic = mObjects[i].spec->isDynamic, inWorld = mWorldIsObject[i];
+        Transform moving[2];
+        const Transform& before = isDynamic ? (moving[0] = poseAt(i, t)) : mStates[i].pose;
+        const Transform& after = isDynamic ? (moving[1] = poseAt(i, t + dt)) : before;
         // The substep's path as the object sees it, sampled a voxel apart.
-        const Vec3d a = before.objectFromWorld(from), b = after.objectFromWorld(x);
+        const Vec3d a = inWorld ? from : objectPoint(before, from), b = inWorld ? x : objectPoint(after, x);
         // Trilinear reads of a distance change by at most sqrt(3) per unit:
         // a path starting this far out cannot come within half a voxel (most
         // substeps, at one read instead of one per voxel of the path, or none
         // while a static object's carried bound is far enough out).
         const double travel = std::sqrt(3.0) * (b - a).length();
         double& bound = lowerBounds[k];
-        if (mObjects[i].spec->isDynamic) bound = -std::numeric_limits<double>::infinity(); // it moved: unknown
+        if (isDynamic) bound = -std::numeric_limits<double>::infinity(); // it moved: unknown
         BBoxd path(a, a);
         path.expand(b);
         if (!path.hasOverlap(distance.reach())) {
@@ -173,7 +178,7 @@ bool Simulator::endsInside(const Vec3d& x, double t, std::vector<MeshDistance::A
     for (std::size_t k = 0; k < mContact.size(); ++k) {
         if (lowerBounds[k] >= 0.0) continue; // outside, as a read would say
         const MeshDistance& distance = *mObjects[mContact[k]].distance;
-        const Vec3d local = poseAt(mContact[k], t).objectFromWorld(x);
+        const Vec3d local = mWorldIsObject[mContact[k]] ? x : objectPoint(poseAt(mContact[k], t), x);
         if (distance.reach().isInside(local) && distance.distance(accessors[k], local) < 0.0) return true;
     }
     return false;

@@ -84,11 +84,13 @@ Simulator::Simulator(const SimulationSetup& setup, const Preparing& preparing) :
     });
 
     mStates.resize(mObjects.size());
+    mWorldIsObject.resize(mObjects.size());
     BBoxd domain;
     mFinestCell = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < mObjects.size(); ++i) {
         const SimObject& object = mObjects[i];
         mStates[i].pose = object.spec->transform;
+        mWorldIsObject[i] = !object.spec->isDynamic && object.spec->transform.isIdentity();
         mStates[i].velocity = object.spec->isDynamic ? object.spec->velocity : Vec3d(0.0);
         if (object.spec->isDynamic) turnToVelocity(mStates[i], Vec3d(0.0), *object.spec, 0.0);
         if (object.distance && object.isClosed) mContact.push_back(i);

@@ -164,6 +164,9 @@ private:
     SimulationSetup mSetup;
     std::vector<SimObject> mObjects;
     std::vector<DynamicState> mStates, mStatesAtFrameStart;
+    /// Per object: static and placed at the identity (the terrain, as a
+    /// rule), so that its object space is world space and substeps skip the map.
+    std::vector<uint8_t> mWorldIsObject;
     std::vector<std::size_t> mRepulsive; ///< objects with a field
     std::vector<std::size_t> mContact;   ///< objects with a closed mesh's distance (SimObject::distance)
     /// The uniform fields acting on each object and each cloud (UniformFieldSpec::affects).
