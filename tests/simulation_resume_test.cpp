@@ -4,10 +4,12 @@
 #include "sim_test_scenes.h"
 #include "test_meshes.h"
 
+#include <vfield/core/atomic_file.h>
 #include <vfield/core/vdb_file.h>
 #include <vfield/render/camera.h>
 #include <vfield/scene/inputs_hash.h>
 #include <vfield/scene/run_metrics.h>
+#include <vfield/scene/sim_folder.h>
 #include <vfield/scene/simulation_run.h>
 #include <vfield/sim/clearance.h>
 #include <vfield/sim/simulator.h>
@@ -78,6 +80,35 @@ TEST_CASE("simulator: a killed run resumes and ends as an uninterrupted one", "[
     // No temporary files are left behind.
     for (const auto& entry : std::filesystem::directory_iterator(killed))
         CHECK(entry.path().filename().string().find(".tmp-") == std::string::npos);
+}
+
+TEST_CASE("simulator: a run resumed from a state saved frames before its last keeps the frames written after it", "[sim][resume]")
+{
+    // Saving the state costs as much as the particles' bytes, so a large run
+    // saves it only now and then: here, a folder whose state is of frame 10
+    // while frames 11 to 16 were written after it.
+    const Scene scene = test::showcaseAtTestResolution("cloud_over_terrain.json", 2000, 16);
+    const std::string dir = test::scratchDir("resume-checkpoint");
+    simulateScene(scene, dir, SimulateOptions::writing(1, 10));
+    const std::string stateAt10 = test::readTextFile(dir + "/state.bin");
+    simulateScene(scene, dir);
+    const std::vector<FrameRecord> written = SimFolder(dir).readStats().frames;
+    writeTextAtomically(dir + "/state.bin", stateAt10);
+
+    const SimulateSummary resumed = simulateScene(scene, dir);
+    CHECK(resumed.resumedAfterFrame == 16);
+    CHECK(resumed.frames.size() == 16);
+    // Frames 11 to 16 were stepped through, not written again: a rewritten
+    // OpenVDB file has a new random id, so its recorded hash would change.
+    const std::vector<FrameRecord> after = SimFolder(dir).readStats().frames;
+    REQUIRE(after.size() == written.size());
+    for (std::size_t i = 0; i < after.size(); ++i) {
+        INFO("frame " << after[i].frame);
+        REQUIRE(after[i].files);
+        CHECK(after[i].files->density.hash == written[i].files->density.hash);
+        CHECK(after[i].files->particles.hash == written[i].files->particles.hash);
+    }
+    CHECK(SimFolder(dir).readRunState().records.size() == 16);
 }
 
 TEST_CASE("simulator: an output folder of another scene file is refused", "[sim][resume]")

@@ -2,6 +2,8 @@
 
 #include <vfield/core/error.h>
 
+#include <cstdio>
+#include <ostream>
 #include <sstream>
 
 namespace vfield {
@@ -12,13 +14,30 @@ constexpr const char* kRunStateHeader = "vfield-run 6";
 
 } // namespace
 
-std::string runStateBytes(const RunState& state)
+void writeRunState(std::ostream& out, const RunState& state, const std::function<void(std::ostream&)>& writeSimulatorState)
 {
-    std::string out = std::string(kRunStateHeader) + "\n";
-    for (const std::string& block : {state.scenePath, std::to_string(state.inputsHash), state.simulatorState,
-                                     frameRecordsJsonText(state.records), state.tracks.objectsJsonText()})
-        out += std::to_string(block.size()) + "\n" + block;
-    return out;
+    // Each block is its size in bytes on a line, then the bytes.
+    const auto block = [&out](const std::string& bytes) { out << bytes.size() << "\n" << bytes; };
+    out << kRunStateHeader << "\n";
+    block(state.scenePath);
+    block(std::to_string(state.inputsHash));
+    if (writeSimulatorState) {
+        // Streamed: its size is known once written, into a line kept wide enough for any.
+        const std::streampos sizeLine = out.tellp();
+        out << std::string(20, '0') << "\n";
+        const std::streampos start = out.tellp();
+        writeSimulatorState(out);
+        const std::streampos end = out.tellp();
+        char size[32];
+        std::snprintf(size, sizeof size, "%020lld", static_cast<long long>(end - start));
+        out.seekp(sizeLine);
+        out.write(size, 20);
+        out.seekp(end);
+    } else {
+        block(state.simulatorState);
+    }
+    block(frameRecordsJsonText(state.records));
+    block(state.tracks.objectsJsonText());
 }
 
 RunState runStateFromBytes(const std::string& bytes, const std::string& path)

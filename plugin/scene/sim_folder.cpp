@@ -112,6 +112,29 @@ FrameFiles SimFolder::writeFrame(int frame, const DensityGrids& volume, const op
     return {fingerprint(densityFile(frame)), fingerprint(particlesFile(frame))};
 }
 
+FrameFiles SimFolder::writeParticles(int frame, const openvdb::GridBase::Ptr& particles, uint64_t inputsHash) const
+{
+    openvdb::MetaMap metadata;
+    metadata.insertMeta(kInputsHashKey, openvdb::StringMetadata(hashText(inputsHash)));
+    metadata.insertMeta(kFrameKey, openvdb::Int32Metadata(frame));
+    writeVdb(particlesFile(frame), {particles}, metadata);
+    return {{}, fingerprint(particlesFile(frame))};
+}
+
+openvdb::GridBase::Ptr SimFolder::readParticles(int frame, uint64_t inputsHash) const
+{
+    const std::string path = particlesFile(frame);
+    if (!fs::exists(path)) throw FileError(path, "missing (simulate these frames first)");
+    openvdb::MetaMap metadata;
+    for (const openvdb::GridBase::Ptr& grid : readVdb(path, &metadata)) {
+        if (grid->getName() != "particles") continue;
+        const std::string problem = provenanceProblem(path, metadata, inputsHash, frame);
+        if (!problem.empty()) throw FileError(path, problem.substr(path.size() + 1) + ": simulate the frame again");
+        return grid;
+    }
+    throw FileError(path, "no grid named 'particles'");
+}
+
 FrameCheck SimFolder::checkFrame(const FrameRecord& record, uint64_t inputsHash, bool checkBytes) const
 {
     using Status = FrameCheck::Status;
@@ -120,6 +143,7 @@ FrameCheck SimFolder::checkFrame(const FrameRecord& record, uint64_t inputsHash,
     const std::pair<std::string, FileFingerprint> files[] = {{densityFile(frame), record.files->density},
                                                              {particlesFile(frame), record.files->particles}};
     for (const auto& [path, written] : files) {
+        if (written.bytes == 0) continue; // a shard's frame has no density
         std::error_code ec;
         const uint64_t size = fs::file_size(path, ec);
         if (ec) return {Status::Missing, path + " is missing"};
@@ -144,7 +168,14 @@ void SimFolder::writeTracks(const Tracks& tracks, double fps) const { writeTextA
 
 void SimFolder::writeStats(const StatsFile& stats) const { writeTextAtomically(statsFile(), statsJsonText(stats)); }
 
-void SimFolder::writeRunState(const RunState& state) const { writeTextAtomically(stateFile(), runStateBytes(state)); }
+void SimFolder::writeRunState(const RunState& state, const std::function<void(std::ostream&)>& writeSimulatorState) const
+{
+    writeFileAtomically(stateFile(), [&](const std::string& temporary) {
+        std::ofstream out(temporary, std::ios::binary);
+        vfield::writeRunState(out, state, writeSimulatorState);
+        if (!out.flush()) throw FileError(temporary, "cannot write (disk full?)");
+    });
+}
 
 void SimFolder::clear() const
 {

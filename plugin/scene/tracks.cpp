@@ -76,12 +76,12 @@ void Tracks::keepUpTo(int frame)
                       entries.end());
 }
 
-Transform Tracks::pose(const std::string& object, int frame) const
+const TrackEntry& Tracks::at(const std::string& object, int frame) const
 {
     const auto o = mObjects.find(object);
     if (o != mObjects.end())
         for (const TrackEntry& e : o->second)
-            if (e.frame == frame) return e.pose;
+            if (e.frame == frame) return e;
     throw FileError(mPath, "no pose of \"" + object + "\" at frame " + std::to_string(frame));
 }
 

@@ -195,4 +195,14 @@ std::vector<PairClearance> ClearanceProbe::measureObjects() const
     return pairs;
 }
 
+void ClearanceStats::add(const ClearanceStats& other)
+{
+    if (other.samples == 0) return;
+    if (samples == 0 || other.minimum < minimum) minimum = other.minimum;
+    if (samples == 0 || other.percentile1 < percentile1) percentile1 = other.percentile1;
+    mean = (mean * double(samples) + other.mean * double(other.samples)) / double(samples + other.samples);
+    penetrations += other.penetrations;
+    samples += other.samples;
+}
+
 } // namespace vfield

@@ -59,10 +59,11 @@ uint32_t spreadBits(uint32_t v)
 }
 
 template<typename T>
-void permute(std::vector<T>& values, const std::vector<std::pair<uint32_t, uint32_t>>& order)
+void permute(std::vector<T>& values, const std::vector<uint32_t>& order)
 {
+    if (values.empty()) return; // an optional attribute (rest2, peak) not kept
     std::vector<T> sorted(values.size());
-    for (std::size_t i = 0; i < order.size(); ++i) sorted[i] = values[order[i].second];
+    for (std::size_t i = 0; i < order.size(); ++i) sorted[i] = values[order[i]];
     values = std::move(sorted);
 }
 
@@ -82,11 +83,18 @@ void ParticleSet::sortSpatially(const BBoxd& box)
         order[p] = {spreadBits(cell[0]) | (spreadBits(cell[1]) << 1) | (spreadBits(cell[2]) << 2), uint32_t(p)};
     });
     tbb::parallel_sort(order.begin(), order.end()); // (key, index) pairs are distinct: one order for any thread count
+    std::vector<uint32_t> indices(order.size());
+    for (std::size_t i = 0; i < order.size(); ++i) indices[i] = order[i].second;
+    reorder(indices);
+}
+
+void ParticleSet::reorder(const std::vector<uint32_t>& order)
+{
     permute(position, order);
     permute(velocity, order);
     permute(rest, order);
-    if (!rest2.empty()) permute(rest2, order);
-    if (!peak.empty()) permute(peak, order);
+    permute(rest2, order);
+    permute(peak, order);
     permute(id, order);
     permute(radius, order);
     permute(cloud, order);

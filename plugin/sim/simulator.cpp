@@ -134,10 +134,22 @@ void Simulator::advanceFrame(const std::function<void()>& afterDynamicSubstep)
     const double t0 = mSetup.frameTime(mFrame), t1 = mSetup.frameTime(mFrame + 1);
     mLastStep = {};
     mStatesAtFrameStart = mStates;
-    advanceDynamicObjects(t0, t1, afterDynamicSubstep);
+    if (mReplay) {
+        for (std::size_t i = 0; i < mObjects.size(); ++i)
+            if (mObjects[i].spec->isDynamic) mStates[i] = mReplay(mObjects[i], mFrame + 1);
+    } else {
+        advanceDynamicObjects(t0, t1, afterDynamicSubstep);
+    }
     ++mFrame; // poseAt interpolates between the two frames' poses
     advanceParticles(t0, t1);
     updateRestPositions();
+}
+
+void Simulator::keepParticles(const std::function<bool(uint32_t id)>& keep)
+{
+    std::vector<uint8_t> kept(mParticles.size());
+    for (std::size_t p = 0; p < kept.size(); ++p) kept[p] = keep(mParticles.id[p]);
+    mParticles.keep(kept);
 }
 
 openvdb::Vec3SGrid::Ptr Simulator::staticForceGrid() const

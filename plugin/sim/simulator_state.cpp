@@ -5,22 +5,23 @@
 #include <vfield/core/error.h>
 
 #include <cstring>
+#include <sstream>
 
 namespace vfield {
 
 namespace {
 
 template<typename T>
-void put(std::string& out, const T& value)
+void put(std::ostream& out, const T& value)
 {
-    out.append(reinterpret_cast<const char*>(&value), sizeof value);
+    out.write(reinterpret_cast<const char*>(&value), sizeof value);
 }
 
 template<typename T>
-void putVector(std::string& out, const std::vector<T>& values)
+void putVector(std::ostream& out, const std::vector<T>& values)
 {
     put(out, uint64_t(values.size()));
-    out.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+    out.write(reinterpret_cast<const char*>(values.data()), std::streamsize(values.size() * sizeof(T)));
 }
 
 class Reader {
@@ -61,7 +62,13 @@ constexpr uint64_t kStateMagic = 0x3474617473646676ull; // "vfdstat4": with peak
 
 std::string Simulator::serializeState() const
 {
-    std::string out;
+    std::ostringstream out;
+    writeState(out);
+    return out.str();
+}
+
+void Simulator::writeState(std::ostream& out) const
+{
     put(out, kStateMagic);
     put(out, int32_t(mFrame));
     put(out, mRemovedTotal);
@@ -82,7 +89,6 @@ std::string Simulator::serializeState() const
     putVector(out, mParticles.id);
     putVector(out, mParticles.radius);
     putVector(out, mParticles.cloud);
-    return out;
 }
 
 void Simulator::restoreState(const std::string& bytes)

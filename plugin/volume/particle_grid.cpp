@@ -1,17 +1,20 @@
 #include <vfield/volume/particle_grid.h>
 
+#include <vfield/core/error.h>
+
 #include <openvdb/points/PointAttribute.h>
 #include <openvdb/points/PointConversion.h>
 #include <openvdb/points/PointCount.h>
 
 #include <algorithm>
+#include <numeric>
 
 namespace vfield {
 
 namespace {
 
 template<typename PositionCodec, typename VectorCodec, typename ScaleCodec>
-openvdb::points::PointDataGrid::Ptr particleGrid(const ParticleSet& particles)
+openvdb::points::PointDataGrid::Ptr particleGrid(const ParticleSet& particles, bool withState)
 {
     using namespace openvdb;
     const points::PointAttributeVector<Vec3f> positions(particles.position);
@@ -42,25 +45,85 @@ openvdb::points::PointDataGrid::Ptr particleGrid(const ParticleSet& particles)
     points::populateAttribute(tree, index->tree(), "id", points::PointAttributeVector<int32_t>(ids));
     points::appendAttribute<float, ScaleCodec>(tree, "pscale");
     points::populateAttribute(tree, index->tree(), "pscale", points::PointAttributeVector<float>(particles.radius));
+    if (withState) {
+        points::appendAttribute<float>(tree, "peak");
+        points::populateAttribute(tree, index->tree(), "peak", points::PointAttributeVector<float>(particles.peak));
+        const std::vector<int32_t> clouds(particles.cloud.begin(), particles.cloud.end());
+        points::appendAttribute<int32_t>(tree, "cloud");
+        points::populateAttribute(tree, index->tree(), "cloud", points::PointAttributeVector<int32_t>(clouds));
+    }
     return grid;
+}
+
+/// The attribute's values, point by point in the grid's order, into out.
+template<typename T, typename Out>
+void readAttribute(const openvdb::points::PointDataTree& tree, const std::string& name, std::vector<Out>& out)
+{
+    using namespace openvdb::points;
+    out.clear();
+    for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) {
+        const AttributeHandle<T> handle(leaf->constAttributeArray(name));
+        for (auto index = leaf->beginIndexOn(); index; ++index) out.push_back(Out(handle.get(*index)));
+    }
 }
 
 } // namespace
 
-openvdb::GridBase::Ptr makeParticleGrid(const ParticleSet& particles, ParticlePrecision precision)
+openvdb::GridBase::Ptr makeParticleGrid(const ParticleSet& particles, ParticlePrecision precision, bool withState)
 {
     openvdb::initialize(); // registers the point attribute types
     using namespace openvdb::points;
-    if (precision == ParticlePrecision::Full) return particleGrid<NullCodec, NullCodec, NullCodec>(particles);
+    if (precision == ParticlePrecision::Full) return particleGrid<NullCodec, NullCodec, NullCodec>(particles, withState);
     // pscale in 8 bits (a 255th of a unit) when every radius fits in [0, 1]
     // as OpenVDB's unit-range codec needs; else as a 16-bit float.
     const bool unitRadii =
         std::all_of(particles.radius.begin(), particles.radius.end(), [](float r) { return r >= 0.0f && r <= 1.0f; });
     PointDataGrid::Ptr grid =
-        unitRadii ? particleGrid<FixedPointCodec<false>, TruncateCodec, FixedPointCodec<true, UnitRange>>(particles)
-                  : particleGrid<FixedPointCodec<false>, TruncateCodec, TruncateCodec>(particles);
+        unitRadii ? particleGrid<FixedPointCodec<false>, TruncateCodec, FixedPointCodec<true, UnitRange>>(particles, withState)
+                  : particleGrid<FixedPointCodec<false>, TruncateCodec, TruncateCodec>(particles, withState);
     compactAttributes(grid->tree()); // a cloud's pscale: one value per leaf
     return grid;
+}
+
+ParticleSet readParticleGrid(const openvdb::GridBase& base)
+{
+    openvdb::initialize();
+    using namespace openvdb::points;
+    const auto* grid = dynamic_cast<const PointDataGrid*>(&base);
+    if (!grid) throw ValueError("grid '" + base.getName() + "' is not a point data grid");
+    const PointDataTree& tree = grid->tree();
+    const auto leaf = tree.cbeginLeaf();
+    const auto has = [&](const char* name) {
+        return !leaf || leaf->attributeSet().descriptor().find(name) != AttributeSet::INVALID_POS;
+    };
+    for (const char* name : {"P", "v", "rest", "id", "pscale"})
+        if (!has(name)) throw ValueError("point grid '" + base.getName() + "' has no attribute '" + name + "'");
+
+    ParticleSet read;
+    for (auto l = tree.cbeginLeaf(); l; ++l) {
+        const AttributeHandle<openvdb::Vec3f> position(l->constAttributeArray("P"));
+        for (auto index = l->beginIndexOn(); index; ++index) {
+            const openvdb::Vec3d voxel = index.getCoord().asVec3d() + position.get(*index);
+            read.position.push_back(openvdb::Vec3f(grid->transform().indexToWorld(voxel)));
+        }
+    }
+    readAttribute<openvdb::Vec3f>(tree, "v", read.velocity);
+    readAttribute<openvdb::Vec3f>(tree, "rest", read.rest);
+    if (has("rest2")) {
+        readAttribute<openvdb::Vec3f>(tree, "rest2", read.rest2);
+        if (const auto weight = grid->getMetadata<openvdb::FloatMetadata>("rest2Weight")) read.rest2Weight = weight->value();
+    }
+    readAttribute<int32_t>(tree, "id", read.id);
+    readAttribute<float>(tree, "pscale", read.radius);
+    if (has("peak")) readAttribute<float>(tree, "peak", read.peak);
+    if (has("cloud")) readAttribute<int32_t>(tree, "cloud", read.cloud);
+
+    // In id order: one order for the same particles, however they were stored.
+    std::vector<uint32_t> order(read.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return read.id[a] < read.id[b]; });
+    read.reorder(order);
+    return read;
 }
 
 } // namespace vfield

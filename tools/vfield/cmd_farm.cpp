@@ -25,7 +25,7 @@ Runner registerFarm(CLI::App& app, const GlobalOptions& global)
         SceneCliOptions scene;
         std::string output, engine = "slurm", backend = "embree", partition, account, time = "04:00:00";
         std::optional<FrameRange> frames;
-        int chunk = 10, cpusPerTask = 2;
+        int chunk = 10, cpusPerTask = 2, shards = 0;
         bool dryRun = false;
         std::vector<std::string> wedges;
         std::string statusOf;
@@ -39,6 +39,11 @@ Runner registerFarm(CLI::App& app, const GlobalOptions& global)
         ->check(CLI::IsMember({"slurm", "local"}))
         ->capture_default_str();
     addFrameRangeOption(*command, o->frames, "Frames, A-B or A [default: the scene's range]");
+    command
+        ->add_option("--shards", o->shards,
+                     "Simulate in K particle shards at once (the dynamic objects first, a merge after) [default: whole, "
+                     "in one job]")
+        ->check(CLI::Range(1, 100000));
     command->add_option("--chunk", o->chunk, "Frames per render task")->check(CLI::Range(1, 100000))->capture_default_str();
     command->add_option("--partition", o->partition, "Slurm partition [default: the cluster's]");
     command->add_option("--account", o->account, "Slurm account [default: yours]");
@@ -78,6 +83,7 @@ Runner registerFarm(CLI::App& app, const GlobalOptions& global)
                              " lie outside the scene's " + std::to_string(scene.simulation.firstFrame) + "-" +
                              std::to_string(scene.simulation.lastFrame));
         plan.chunk = o->chunk;
+        plan.shards = o->shards;
         plan.cpusPerTask = o->cpusPerTask;
         plan.partition = o->partition;
         plan.account = o->account;

@@ -8,6 +8,7 @@
 #include "scene_cli_options.h"
 
 #include <vfield/scene/host_scene.h>
+#include <vfield/scene/shard_merge.h>
 #include <vfield/scene/sim_folder.h>
 #include <vfield/scene/simulation_run.h>
 
@@ -38,6 +39,8 @@ Runner registerSimulate(CLI::App& app, const GlobalOptions& global)
         int threads = 0;
         std::optional<double> maxMemory;
         bool wait = false;
+        std::string shard;
+        int merge = 0;
     };
     auto o = std::make_shared<Options>();
     CLI::App* command = app.add_subcommand("simulate", "Animate a scene and write OpenVDB volumes and particles per frame");
@@ -48,6 +51,13 @@ Runner registerSimulate(CLI::App& app, const GlobalOptions& global)
     command->add_option("--threads", o->threads, "Worker threads [default: all cores]")->check(CLI::PositiveNumber);
     addMaxMemoryOption(*command, o->maxMemory);
     addWaitOption(*command, o->wait);
+    CLI::Option* shard = command->add_option(
+        "--shard", o->shard,
+        "One part of a sharded simulation, into OUT/shards/: objects (the dynamic objects alone, first), or I/K (the "
+        "particles whose id % K is I, the objects replayed)");
+    command->add_option("--merge", o->merge, "Merge the K shards in OUT/shards/ into OUT, frame by frame")
+        ->check(CLI::PositiveNumber)
+        ->excludes(shard);
 
     return [o, &global] {
         const auto threads = limitThreads(o->threads);
@@ -59,9 +69,11 @@ Runner registerSimulate(CLI::App& app, const GlobalOptions& global)
             options.firstFrame = o->frames->first;
             options.lastFrame = o->frames->last;
         }
+        if (!o->shard.empty()) options.part = ShardPart::parse(o->shard);
         ProgressLine progress(global.quiet);
-        showSimulationProgress(options, progress, "frame");
-        const SimulateSummary summary = simulateScene(scene, o->output, options);
+        showSimulationProgress(options, progress, o->merge > 0 ? "merged frame" : "frame");
+        const SimulateSummary summary =
+            o->merge > 0 ? mergeShards(scene, o->output, o->merge, options) : simulateScene(scene, o->output, options);
         for (const std::string& warning : summary.warnings) log(global, "warning: " + warning);
         if (summary.restartedStale)
             log(global, o->output + " held a simulation of an earlier edit of the scene or its meshes: simulated afresh");

@@ -7,6 +7,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <cstdlib>
@@ -118,6 +119,15 @@ std::string farmHelper(const std::string& name)
     return helper.string();
 }
 
+std::vector<FarmStage> farmStages(const FarmPlan& plan)
+{
+    std::vector<FarmStage> stages;
+    if (plan.shards == 0) stages.push_back({"simulate", 1});
+    else stages.insert(stages.end(), {{"objects", 1}, {"shards", plan.shards}, {"merge", 1}});
+    stages.insert(stages.end(), {{"render", plan.chunks()}, {"finish", 1}});
+    return stages;
+}
+
 std::vector<FarmVariant> wedgeVariants(const std::string& out, const std::vector<std::string>& wedges)
 {
     std::vector<FarmVariant> variants(1);
@@ -157,12 +167,15 @@ std::vector<std::string> writeFarmScripts(const FarmPlan& plan)
         const std::string scene = sceneArguments(plan, v);
         const std::string range = std::to_string(plan.first) + "-" + std::to_string(plan.last);
 
+        const std::string threads = " --threads \"${SLURM_CPUS_PER_TASK:-" + std::to_string(plan.cpusPerTask) + "}\"";
         // Sequential in time; a requeued job resumes after its last complete
         // frame, waiting for its earlier self to let go of the folder.
-        const std::string simulate = header(plan, "vfield-simulate" + tag, dir + "/simulate-%j.log") +
-                                     "#SBATCH --requeue\nset -euo pipefail\n" + quote(plan.vfield) + " simulate " + scene +
-                                     " -o " + quote(v.dir + "/sim") + " --wait --frames " + range +
-                                     " --threads \"${SLURM_CPUS_PER_TASK:-" + std::to_string(plan.cpusPerTask) + "}\"\n";
+        const auto simulation = [&](const std::string& stage, const std::string& array, const std::string& arguments) {
+            const std::string log = dir + "/" + stage + (array.empty() ? "-%j.log" : "-%A_%a.log");
+            return header(plan, "vfield-" + stage + tag, log) + array + "#SBATCH --requeue\nset -euo pipefail\n" +
+                   quote(plan.vfield) + " simulate " + scene + " -o " + quote(v.dir + "/sim") + " --wait --frames " + range +
+                   threads + arguments + "\n";
+        };
         // A chunk of frames per array task, one task at a time (a folder has
         // one writer); finished frames are skipped.
         std::string renderArgs;
@@ -173,14 +186,23 @@ std::vector<std::string> writeFarmScripts(const FarmPlan& plan)
                                    "))\nlast=$((first + " + std::to_string(plan.chunk - 1) + "))\n(( last > " +
                                    std::to_string(plan.last) + " )) && last=" + std::to_string(plan.last) + "\n" +
                                    quote(plan.vfield) + " render " + scene + " --sim " + quote(v.dir + "/sim") + " -o " +
-                                   quote(v.dir) + " --wait --frames \"$first-$last\" --threads \"${SLURM_CPUS_PER_TASK:-" +
-                                   std::to_string(plan.cpusPerTask) + "}\"" + renderArgs + "\n";
+                                   quote(v.dir) + " --wait --frames \"$first-$last\"" + threads + renderArgs + "\n";
         const std::string finish = header(plan, "vfield-finish" + tag, dir + "/finish-%j.log") + "set -euo pipefail\n" +
                                    quote(plan.makeSheet) + " " + quote(v.dir) + " " + quote(v.dir + "/contact.jpg") + " " +
                                    quote(v.dir + "/preview.mp4") + "\n";
-        for (const auto& [name, text] : {std::pair{"simulate", simulate}, {"render", render}, {"finish", finish}}) {
-            const std::string path = dir + "/" + name + ".sh";
-            writeTextAtomically(path, text);
+        const std::string shards = std::to_string(plan.shards);
+        const auto text = [&](const std::string& stage) {
+            if (stage == "simulate") return simulation(stage, "", "");
+            if (stage == "objects") return simulation(stage, "", " --shard objects");
+            if (stage == "shards") // every shard at once: each moves its own particles into its own folder
+                return simulation(stage, "#SBATCH --array=0-" + std::to_string(plan.shards - 1) + "\n",
+                                  " --shard \"${SLURM_ARRAY_TASK_ID:?}/" + shards + "\"");
+            if (stage == "merge") return simulation(stage, "", " --merge " + shards);
+            return stage == "render" ? render : finish;
+        };
+        for (const FarmStage& stage : farmStages(plan)) {
+            const std::string path = dir + "/" + stage.name + ".sh";
+            writeTextAtomically(path, text(stage.name));
             fs::permissions(path, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
             scripts.push_back(path);
         }
@@ -214,14 +236,18 @@ std::vector<std::string> submitToSlurm(const FarmPlan& plan)
     std::string finishes;
     nlohmann::json jobs = nlohmann::json::array();
     for (const FarmVariant& v : plan.variants) {
-        const std::string dir = farmDir(v.dir);
-        const std::string simulate = submit(dir + "/simulate.sh", "");
-        const std::string render = submit(dir + "/render.sh", simulate);
-        const std::string finish = submit(dir + "/finish.sh", render);
-        finishes += (finishes.empty() ? "" : ":") + finish;
-        jobs.push_back({{"folder", v.dir}, {"simulate", simulate}, {"render", render}, {"finish", finish}});
-        lines.push_back((v.name.empty() ? plan.out : v.dir) + ": simulate " + simulate + ", render " + render + " (" +
-                        std::to_string(plan.chunks()) + " tasks), finish " + finish);
+        nlohmann::json job = {{"folder", v.dir}};
+        std::string line = (v.name.empty() ? plan.out : v.dir) + ":", previous;
+        for (const FarmStage& stage : farmStages(plan)) {
+            previous = submit(farmDir(v.dir) + "/" + stage.name + ".sh", previous);
+            job[stage.name] = previous;
+            line +=
+                " " + stage.name + " " + previous + (stage.tasks > 1 ? " (" + std::to_string(stage.tasks) + " tasks)" : "") + ",";
+        }
+        line.pop_back();
+        finishes += (finishes.empty() ? "" : ":") + previous;
+        jobs.push_back(job);
+        lines.push_back(line);
     }
     if (plan.isWedge()) {
         const std::string sheet = submit(farmDir(plan.out) + "/wedges.sh", finishes);
@@ -234,7 +260,10 @@ std::vector<std::string> submitToSlurm(const FarmPlan& plan)
 
 void runLocally(const FarmPlan& plan, const LocalTaskStarted& started, bool quiet)
 {
-    const int total = int(plan.variants.size()) * (plan.chunks() + 2) + (plan.isWedge() ? 1 : 0);
+    const std::vector<FarmStage> stages = farmStages(plan);
+    int tasksPerVariant = 0;
+    for (const FarmStage& stage : stages) tasksPerVariant += stage.tasks;
+    const int total = int(plan.variants.size()) * tasksPerVariant + (plan.isWedge() ? 1 : 0);
     int done = 0;
     const auto runScript = [&](const std::string& what, const std::string& script, const std::string& environment) {
         started(done, total, what);
@@ -246,12 +275,15 @@ void runLocally(const FarmPlan& plan, const LocalTaskStarted& started, bool quie
     };
     const std::string cpus = "SLURM_CPUS_PER_TASK=" + std::to_string(plan.cpusPerTask);
     for (const FarmVariant& v : plan.variants) {
-        const std::string dir = farmDir(v.dir), prefix = v.name.empty() ? "" : v.name + ": ";
-        runScript(prefix + "simulate", dir + "/simulate.sh", cpus);
-        for (int task = 0; task < plan.chunks(); ++task)
-            runScript(prefix + "render task " + std::to_string(task + 1) + "/" + std::to_string(plan.chunks()),
-                      dir + "/render.sh", cpus + " SLURM_ARRAY_TASK_ID=" + std::to_string(task));
-        runScript(prefix + "contact sheet and movie", dir + "/finish.sh", cpus);
+        const std::string prefix = v.name.empty() ? "" : v.name + ": ";
+        for (const FarmStage& stage : stages)
+            for (int task = 0; task < stage.tasks; ++task) {
+                const std::string script = farmDir(v.dir) + "/" + stage.name + ".sh";
+                if (stage.tasks == 1) runScript(prefix + stage.name, script, cpus);
+                else
+                    runScript(prefix + stage.name + " task " + std::to_string(task + 1) + "/" + std::to_string(stage.tasks),
+                              script, cpus + " SLURM_ARRAY_TASK_ID=" + std::to_string(task));
+            }
     }
     if (plan.isWedge()) runScript("wedge sheet", farmDir(plan.out) + "/wedges.sh", cpus);
 }
@@ -283,6 +315,20 @@ std::vector<std::string> farmStatus(const std::string& out)
         lines.push_back(dir + ": " + std::to_string(simulated) + " of " + std::to_string(last - first + 1) +
                         " frames simulated, " + std::to_string(rendered) + " rendered" +
                         (fs::exists(dir + "/contact.jpg") ? ", contact sheet and movie made" : ""));
+        // A sharded simulation's parts, each as far as its stats.json records.
+        std::vector<fs::path> parts;
+        if (fs::is_directory(dir + "/sim/shards"))
+            for (const auto& entry : fs::directory_iterator(dir + "/sim/shards")) parts.push_back(entry.path());
+        std::sort(parts.begin(), parts.end());
+        for (const fs::path& part : parts) {
+            std::ifstream file(part / "stats.json");
+            const nlohmann::json stats = nlohmann::json::parse(file, nullptr, false); // discarded when missing or torn
+            int reached = 0;
+            if (stats.is_object() && stats.contains("frames") && stats["frames"].is_array() && !stats["frames"].empty())
+                reached = stats["frames"].back().value("frame", 0);
+            lines.push_back("  part " + part.filename().string() + ": " +
+                            (reached > 0 ? "frames up to " + std::to_string(reached) : std::string("nothing simulated yet")));
+        }
     }
     std::ifstream jobsFile(farmDir(out) + "/jobs.json");
     if (jobsFile) {

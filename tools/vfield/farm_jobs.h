@@ -1,8 +1,10 @@
 #pragma once
-// The jobs of `vfield farm`: a scene's simulation, its rendering in chunks of
-// frames and its contact sheet and movie, as batch scripts that Slurm runs
-// (sbatch, with dependencies) or that run one after another on this machine.
-// Each script is plain bash with #SBATCH lines, so the same files serve both.
+// The jobs of `vfield farm`: a scene's simulation (whole, or sharded: the
+// dynamic objects, the particles in K array tasks at once, a merge), its
+// rendering in chunks of frames and its contact sheet and movie, as batch
+// scripts that Slurm runs (sbatch, with dependencies) or that run one after
+// another on this machine. Each script is plain bash with #SBATCH lines, so
+// the same files serve both.
 
 #include <functional>
 #include <string>
@@ -25,6 +27,7 @@ struct FarmPlan {
     std::vector<std::string> overrides;  ///< the user's --set, "POINTER=JSON"
     std::vector<std::string> renderArgs; ///< --backend and the like, passed to vfield render
     int first = 1, last = 1, chunk = 10;
+    int shards = 0; ///< particle shards of the simulation (shard_part.h); 0: one job simulates it whole
     int cpusPerTask = 2;
     std::string partition, account, time = "04:00:00";
     std::vector<FarmVariant> variants;
@@ -32,6 +35,15 @@ struct FarmPlan {
     int chunks() const { return (last - first) / chunk + 1; }
     bool isWedge() const { return !variants.front().name.empty(); }
 };
+
+/// One of a variant's jobs: farm/NAME.sh, run once or as an array of tasks,
+/// each job after the one before it.
+struct FarmStage {
+    std::string name; ///< simulate, or objects, shards and merge; then render and finish
+    int tasks = 1;    ///< above 1: a Slurm array, SLURM_ARRAY_TASK_ID 0 .. tasks - 1
+};
+/// A variant's jobs, in the order they run.
+std::vector<FarmStage> farmStages(const FarmPlan& plan);
 
 /// The absolute path of a script the farm's jobs run (make-sheet). Installed,
 /// it lies in <prefix>/libexec/vfield/, found from this vfield's own path
@@ -44,7 +56,7 @@ std::string farmHelper(const std::string& name);
 /// split at commas outside brackets and quotes), every combination, in order.
 std::vector<FarmVariant> wedgeVariants(const std::string& out, const std::vector<std::string>& wedges);
 
-/// Writes OUT[/wedge-NN]/farm/{simulate,render,finish}.sh (and for wedges
+/// Writes OUT[/wedge-NN]/farm/STAGE.sh for each of farmStages (and for wedges
 /// OUT/farm/wedges.sh, OUT/wedges.json) and OUT/farm/plan.txt. Returns the
 /// scripts in the order they run.
 std::vector<std::string> writeFarmScripts(const FarmPlan& plan);

@@ -9,6 +9,8 @@
 #include <vfield/scene/tracks.h>
 
 #include <cstdint>
+#include <functional>
+#include <iosfwd>
 #include <string>
 #include <vector>
 
@@ -17,13 +19,15 @@ namespace vfield {
 struct RunState {
     std::string scenePath; ///< absolute
     uint64_t inputsHash = 0;
-    std::string simulatorState; ///< Simulator::serializeState()
+    std::string simulatorState; ///< Simulator::serializeState(); empty in a merged folder (shard_merge.h)
     std::vector<FrameRecord> records;
     Tracks tracks;
 };
 
-/// state.bin's bytes.
-std::string runStateBytes(const RunState& state);
+/// Writes state.bin's bytes to out. The simulator's state comes from
+/// writeSimulatorState when given (Simulator::writeState, streamed into the
+/// file), else from state.simulatorState.
+void writeRunState(std::ostream& out, const RunState& state, const std::function<void(std::ostream&)>& writeSimulatorState = {});
 /// Reads state.bin's bytes (path names it in errors). Throws FileError for
 /// another version's state or a corrupt or truncated one.
 RunState runStateFromBytes(const std::string& bytes, const std::string& path);

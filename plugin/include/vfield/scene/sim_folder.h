@@ -13,6 +13,7 @@
 ///   stats.json           per frame, particles alive and removed, substeps, clearances (FrameRecord)
 ///   state.bin            the state after the last complete frame, to resume from (RunState)
 ///   .vfield-lock         held by the one process writing the folder (FolderLock)
+///   shards/              the parts of a sharded simulation, each a folder of these files (shard_part.h)
 /// Every file is written atomically.
 
 #include <vfield/core/fields.h>
@@ -77,10 +78,15 @@ public:
     /// inputs hash and the frame; returns their fingerprints.
     FrameFiles writeFrame(int frame, const DensityGrids& volume, const openvdb::GridBase::Ptr& particles,
                           uint64_t inputsHash) const;
+    /// A shard's frame (shard_part.h): its particle file alone, stamped as writeFrame stamps it.
+    FrameFiles writeParticles(int frame, const openvdb::GridBase::Ptr& particles, uint64_t inputsHash) const;
+    /// The frame's particle grid, checked as readDensity checks its grid.
+    openvdb::GridBase::Ptr readParticles(int frame, uint64_t inputsHash) const;
     void writeTracks(const Tracks& tracks, double fps) const;
     void writeStats(const StatsFile& stats) const;
-    /// Written last after a frame: marks it complete.
-    void writeRunState(const RunState& state) const;
+    /// Written last after a frame: marks it complete. The simulator's state
+    /// is streamed from writeSimulatorState when given (writeRunState in run_state.h).
+    void writeRunState(const RunState& state, const std::function<void(std::ostream&)>& writeSimulatorState = {}) const;
     /// Removes every file a simulation writes here (frames, tracks, stats,
     /// state, field), so that a fresh run leaves nothing stale behind.
     void clear() const;

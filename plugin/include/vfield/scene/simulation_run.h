@@ -16,11 +16,13 @@
 
 #include <vfield/core/folder_lock.h>
 #include <vfield/scene/scene.h>
+#include <vfield/scene/shard_part.h>
 #include <vfield/scene/sim_folder.h>
 
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace vfield {
@@ -59,11 +61,18 @@ struct SimulateOptions {
     /// writes it, this is called with who, and the run waits for it; unset:
     /// the run is refused at once.
     FolderLock::Waiting waitForFolder;
+    /// One part of a sharded simulation (shard_part.h), into its folder in
+    /// the output folder; unset: the whole simulation, into the output folder.
+    /// A shard needs the objects' part's tracks up to the frames it writes.
+    std::optional<ShardPart> part;
 };
 
 struct SimulateSummary {
     std::vector<FrameRecord> frames; ///< every frame simulated so far, resumed ones included
-    int resumedAfterFrame = -1;      ///< the frame a saved state was resumed after, or -1
+    /// The last frame of an earlier run that this one kept, or -1: from the
+    /// state it saved, and the frames it wrote after that state (stepped
+    /// through again, not written).
+    int resumedAfterFrame = -1;
     /// The first frame an earlier run wrote that was missing, foreign or
     /// corrupt, so that the run simulated it again (from the initial state,
     /// writing nothing before it), or -1; and what was wrong with it.
@@ -78,8 +87,16 @@ struct SimulateSummary {
     uint64_t contacts = 0;              ///< particle contacts with dynamic objects, all frames (StepStats)
     uint64_t endedInside = 0;           ///< particle substeps that ended inside a dynamic object, all frames
     StageSeconds stages;                ///< the frames simulated by this run, summed
+
+    /// Takes the records of every frame so far, with their totals above
+    /// (clearances, pairs, contacts); stages stay this run's.
+    void addFrames(const std::vector<FrameRecord>& records);
 };
 
 SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, const SimulateOptions& options = {});
+
+/// The first and last frame a run with these options writes. Throws
+/// ValueError when they are not within the scene's range.
+std::pair<int, int> framesToWrite(const SimulationSetup& setup, const SimulateOptions& options);
 
 } // namespace vfield

@@ -33,7 +33,7 @@ struct FileFingerprint {
 
 /// The files a frame wrote.
 struct FrameFiles {
-    FileFingerprint density, particles;
+    FileFingerprint density, particles; ///< density: none (0 bytes) in a shard's folder (shard_part.h)
 };
 
 /// Where a frame's wall-clock time went, seconds.

@@ -27,9 +27,11 @@ public:
     /// Drops every entry after frame.
     void keepUpTo(int frame);
     const std::map<std::string, std::vector<TrackEntry>>& objects() const { return mObjects; }
-    /// The object's pose at frame. Throws FileError (naming the file it was
+    /// The object's entry at frame. Throws FileError (naming the file it was
     /// read from) when the track holds no such entry.
-    Transform pose(const std::string& object, int frame) const;
+    const TrackEntry& at(const std::string& object, int frame) const;
+    /// The object's pose at frame; throws as at() does.
+    Transform pose(const std::string& object, int frame) const { return at(object, frame).pose; }
     /// The object's poses from the first frame of its track through frame, in
     /// frame order: the path a following camera rides. Throws as pose() does.
     std::vector<Transform> path(const std::string& object, int frame) const;

@@ -22,6 +22,12 @@ struct ClearanceStats {
     double mean = 0.0;
     uint64_t penetrations = 0; ///< points at negative distance
     uint64_t samples = 0;      ///< points measured (0: nothing to measure)
+
+    /// Takes in another set's measures, as if measured together: the
+    /// smaller minimum, the mean of all, penetrations and samples summed. The
+    /// 1st percentile of the union is not known from the two: the smaller of
+    /// the two is kept, a lower bound of it.
+    void add(const ClearanceStats& other);
 };
 
 /// The clearance between two objects' meshes at one moment.

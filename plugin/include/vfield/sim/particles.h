@@ -42,6 +42,8 @@ struct ParticleSet {
     /// particles near in space become near in memory, so field lookups and
     /// splats read memory in order rather than at random.
     void sortSpatially(const BBoxd& box);
+    /// Reorders the particles: the i-th becomes the one that was order[i]th.
+    void reorder(const std::vector<uint32_t>& order);
 };
 
 } // namespace vfield

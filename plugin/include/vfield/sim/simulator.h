@@ -38,6 +38,7 @@
 #include <openvdb/openvdb.h>
 
 #include <functional>
+#include <iosfwd>
 #include <memory>
 #include <string>
 #include <vector>
@@ -98,6 +99,19 @@ public:
     /// measure of their clearance looks (ClearanceProbe::measureObjects).
     void advanceFrame(const std::function<void()>& afterDynamicSubstep = {});
 
+    /// A dynamic object's state at the end of a frame, from a run that moved
+    /// it before (its tracks).
+    using ObjectReplay = std::function<DynamicState(const SimObject& object, int frame)>;
+    /// From the next frame on, the dynamic objects follow replay instead of
+    /// the flight model: what a shard of a sharded simulation does, so that
+    /// the objects move once for all shards. Particles read the objects'
+    /// poses at frames only (between them, interpolated), so a replay of
+    /// their exact poses moves particles bit for bit as the run that made them.
+    void replayObjects(ObjectReplay replay) { mReplay = std::move(replay); }
+    /// Keeps only the particles whose id keep accepts (a shard's share of a
+    /// cloud, or none); each moves as it would with all the others.
+    void keepParticles(const std::function<bool(uint32_t id)>& keep);
+
     const ParticleSet& particles() const { return mParticles; }
     uint64_t removedTotal() const { return mRemovedTotal; }
     const StepStats& lastStep() const { return mLastStep; }
@@ -117,7 +131,10 @@ public:
 
     /// The state after the current frame, to resume from (bit-exact).
     std::string serializeState() const;
-    /// Restores a state written by serializeState for the same setup.
+    /// The same bytes, streamed: a cloud of millions of particles has a state
+    /// of hundreds of megabytes, which a copy in memory would double.
+    void writeState(std::ostream& out) const;
+    /// Restores a state written by serializeState or writeState for the same setup.
     void restoreState(const std::string& bytes);
 
 private:
@@ -176,6 +193,7 @@ private:
     double mFinestCell = 0.0;
     std::vector<double> mFieldSpeed; ///< per repulsive object this frame (measureFieldSpeeds)
     double mFieldFrameTime = 0.0;    ///< the frame's length, for the swept roots
+    ObjectReplay mReplay;            ///< empty: the flight model moves the dynamic objects
     int mFrame = 0;
     uint64_t mRemovedTotal = 0;
     StepStats mLastStep;
