@@ -61,6 +61,7 @@ void readAttribute(const openvdb::points::PointDataTree& tree, const std::string
 {
     using namespace openvdb::points;
     out.clear();
+    out.reserve(pointCount(tree));
     for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) {
         const AttributeHandle<T> handle(leaf->constAttributeArray(name));
         for (auto index = leaf->beginIndexOn(); index; ++index) out.push_back(Out(handle.get(*index)));
@@ -100,6 +101,7 @@ ParticleSet readParticleGrid(const openvdb::GridBase& base)
         if (!has(name)) throw ValueError("point grid '" + base.getName() + "' has no attribute '" + name + "'");
 
     ParticleSet read;
+    read.position.reserve(pointCount(tree));
     for (auto l = tree.cbeginLeaf(); l; ++l) {
         const AttributeHandle<openvdb::Vec3f> position(l->constAttributeArray("P"));
         for (auto index = l->beginIndexOn(); index; ++index) {
