@@ -13,7 +13,6 @@
 #include <algorithm>
 #include <filesystem>
 #include <map>
-#include <numeric>
 
 namespace fs = std::filesystem;
 
@@ -96,22 +95,8 @@ ParticleSet gatherParticles(const std::vector<PartRecords>& shards, int frame)
         parts[s] = readParticleGrid(*shard.folder.readParticles(frame, shard.inputsHash));
     });
     ParticleSet all = std::move(parts.front());
-    for (std::size_t s = 1; s < parts.size(); ++s) {
-        const ParticleSet& p = parts[s];
-        const auto append = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };
-        append(all.position, p.position);
-        append(all.velocity, p.velocity);
-        append(all.rest, p.rest);
-        append(all.rest2, p.rest2);
-        append(all.peak, p.peak);
-        append(all.id, p.id);
-        append(all.radius, p.radius);
-        append(all.cloud, p.cloud);
-    }
-    std::vector<uint32_t> order(all.size());
-    std::iota(order.begin(), order.end(), 0u);
-    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return all.id[a] < all.id[b]; });
-    all.reorder(order);
+    for (std::size_t s = 1; s < parts.size(); ++s) all.append(parts[s]);
+    all.sortById();
     BBoxd box;
     for (const Vec3f& p : all.position) box.expand(Vec3d(p));
     all.sortSpatially(box);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <utility>
 
 namespace vfield {
@@ -32,7 +33,7 @@ void ParticleSet::keep(const std::vector<uint8_t>& alive)
         if (!peak.empty()) peak[kept] = peak[i];
         id[kept] = id[i];
         radius[kept] = radius[i];
-        cloud[kept] = cloud[i];
+        if (!cloud.empty()) cloud[kept] = cloud[i];
         ++kept;
     }
     position.resize(kept);
@@ -42,7 +43,7 @@ void ParticleSet::keep(const std::vector<uint8_t>& alive)
     if (!peak.empty()) peak.resize(kept);
     id.resize(kept);
     radius.resize(kept);
-    cloud.resize(kept);
+    if (!cloud.empty()) cloud.resize(kept);
 }
 
 namespace {
@@ -86,6 +87,27 @@ void ParticleSet::sortSpatially(const BBoxd& box)
     std::vector<uint32_t> indices(order.size());
     for (std::size_t i = 0; i < order.size(); ++i) indices[i] = order[i].second;
     reorder(indices);
+}
+
+void ParticleSet::sortById()
+{
+    std::vector<uint32_t> order(size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return id[a] < id[b]; });
+    reorder(order);
+}
+
+void ParticleSet::append(const ParticleSet& other)
+{
+    const auto add = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };
+    add(position, other.position);
+    add(velocity, other.velocity);
+    add(rest, other.rest);
+    add(rest2, other.rest2);
+    add(peak, other.peak);
+    add(id, other.id);
+    add(radius, other.radius);
+    add(cloud, other.cloud);
 }
 
 void ParticleSet::reorder(const std::vector<uint32_t>& order)

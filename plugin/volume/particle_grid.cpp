@@ -7,7 +7,6 @@
 #include <openvdb/points/PointCount.h>
 
 #include <algorithm>
-#include <numeric>
 
 namespace vfield {
 
@@ -120,11 +119,7 @@ ParticleSet readParticleGrid(const openvdb::GridBase& base)
     if (has("peak")) readAttribute<float>(tree, "peak", read.peak);
     if (has("cloud")) readAttribute<int32_t>(tree, "cloud", read.cloud);
 
-    // In id order: one order for the same particles, however they were stored.
-    std::vector<uint32_t> order(read.size());
-    std::iota(order.begin(), order.end(), 0u);
-    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return read.id[a] < read.id[b]; });
-    read.reorder(order);
+    read.sortById();
     return read;
 }
 

@@ -44,6 +44,10 @@ struct ParticleSet {
     void sortSpatially(const BBoxd& box);
     /// Reorders the particles: the i-th becomes the one that was order[i]th.
     void reorder(const std::vector<uint32_t>& order);
+    /// Puts the particles in id order: one order for the same particles, however they came.
+    void sortById();
+    /// Appends other's particles (rest2Weight stays this set's).
+    void append(const ParticleSet& other);
 };
 
 } // namespace vfield
