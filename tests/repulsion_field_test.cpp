@@ -13,6 +13,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <random>
 #include <vector>
 
 using namespace vfield;
@@ -334,4 +335,34 @@ TEST_CASE("repulsion field: dual sampling does not step where the octree's level
                << " of the paper's step");
     CHECK(faces > 30);
     CHECK(worstStep < 0.01); // measured 0.0045
+}
+
+TEST_CASE("repulsion field: a point's level cell holds only points of its level", "[repulsion]")
+{
+    const TriangleMesh sphere = unitSphere();
+    std::mt19937 random(11);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    for (const RepulsionMethod method : {RepulsionMethod::Octree, RepulsionMethod::Distance}) {
+        const auto field = RepulsionField::build(sphere, sphereField(method), FieldSampling::Nearest);
+        RepulsionField::Accessor accessor = field->accessor();
+        const BBoxd& bounds = field->bounds();
+        int cells = 0;
+        for (int i = 0; i < 2000; ++i) {
+            const Vec3d p = bounds.min() + Vec3d(unit(random), unit(random), unit(random)) * bounds.extents();
+            const int level = field->sample(accessor, p).level;
+            const BBoxd cell = field->levelCell(p, level);
+            if (cell.min().x() > cell.max().x()) continue; // on a face: empty
+            ++cells;
+            INFO(enumName(method) << " point (" << p[0] << ", " << p[1] << ", " << p[2] << ") level " << level);
+            REQUIRE(cell.isInside(p));
+            if (method == RepulsionMethod::Octree) CHECK(cell.extents().x() == Approx(field->cellSize(level)).epsilon(1e-5));
+            for (int j = 0; j < 20; ++j) {
+                const Vec3d q = cell.min() + Vec3d(unit(random), unit(random), unit(random)) * cell.extents();
+                REQUIRE(field->levelAt(accessor, q) == level);
+            }
+            // Its corners too: a cell reaches to within a millionth of a voxel of its faces.
+            for (int corner = 0; corner < 8; ++corner) REQUIRE(field->levelAt(accessor, boxCorner(cell, corner)) == level);
+        }
+        CHECK(cells > 1900);
+    }
 }

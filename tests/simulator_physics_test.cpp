@@ -12,6 +12,7 @@
 #include <vfield/scene/run_metrics.h>
 #include <vfield/scene/simulation_run.h>
 #include <vfield/sim/clearance.h>
+#include <vfield/sim/motion.h>
 #include <vfield/sim/simulator.h>
 
 #include <catch2/catch.hpp>
@@ -103,6 +104,26 @@ TEST_CASE("simulator: substeps keep each move within cfl of the cell around the 
     sim.advanceFrame();
     CHECK(sim.lastStep().maxSubsteps == 9);
     CHECK(onlyParticle(sim)[0] == Approx(100.0 / 24.0));
+}
+
+TEST_CASE("motion: a substep within reach travels no farther, and is the whole remaining time when that fits", "[sim]")
+{
+    std::mt19937 random(5);
+    std::uniform_real_distribution<double> component(-50.0, 50.0), positive(1e-3, 2.0);
+    int whole = 0;
+    for (int i = 0; i < 100000; ++i) {
+        const Vec3d v(component(random), component(random), component(random));
+        const Vec3d a(component(random), component(random), component(random));
+        const double remaining = 0.1 * positive(random), reach = positive(random),
+                     extraSpeed = i % 4 == 0 ? positive(random) : 0.0;
+        const double dt = stepWithin(remaining, v, extraSpeed, a, reach);
+        INFO("case " << i);
+        REQUIRE(dt <= remaining);
+        REQUIRE((v.length() + extraSpeed) * dt + a.length() * dt * dt <= reach * (1.0 + 1e-12));
+        REQUIRE(dt == Approx(std::min(remaining, stepLimit(v.length() + extraSpeed, a.length(), reach))).epsilon(1e-12));
+        if (dt == remaining) ++whole;
+    }
+    CHECK(whole > 1000); // both ways were taken
 }
 
 TEST_CASE("simulator: a billowed cloud is emitted as lumps cut into its shape, its core full", "[sim]")

@@ -25,24 +25,77 @@ void RepulsionOptions::validate() const
                 "applies to the distance and potentialFlow methods (the octree's cells follow its triangles)");
 }
 
-double RepulsionField::cellSize(int level) const { return mSide * std::ldexp(1.0, 1 - level); }
+double RepulsionField::structureCellSize(int level) const { return mSide * std::ldexp(1.0, 1 - level); }
+
+namespace {
+
+/// The world-to-index map of a grid made by createLinearTransform and
+/// postTranslate (every field grid is), as OpenVDB's map computes it.
+template<typename IndexMap>
+IndexMap indexMapOf(const openvdb::math::Transform& transform)
+{
+    using namespace openvdb::math;
+    if (const auto map = transform.constMap<UniformScaleTranslateMap>()) return {map->getTranslation(), map->getInvScale()};
+    if (const auto map = transform.constMap<ScaleTranslateMap>()) return {map->getTranslation(), map->getInvScale()};
+    if (const auto map = transform.constMap<UniformScaleMap>()) return {Vec3d(0.0), map->getInvScale()};
+    if (const auto map = transform.constMap<ScaleMap>()) return {Vec3d(0.0), map->getInvScale()};
+    throw std::logic_error("a repulsion field's grid has a " + transform.mapType() + " map, not a scale and translation");
+}
+
+} // namespace
 
 void RepulsionField::setSampling(FieldSampling sampling, openvdb::Vec3SGrid::Ptr sampled)
 {
     mSampling = sampling;
     mSampled = sampled ? std::move(sampled) : mForce;
     mSampledOnLevelVoxels = mSampled->transform() == mLevel->transform();
+    mSampledIndex = indexMapOf<IndexMap>(mSampled->transform());
+    mLevelIndex = indexMapOf<IndexMap>(mLevel->transform());
+    mCellSize.assign(std::size_t(mDepth) + 1, 0.0);
+    mInverseCellSize.assign(std::size_t(mDepth) + 1, 0.0);
+    for (int level = 1; level <= mDepth; ++level) {
+        mCellSize[std::size_t(level)] = structureCellSize(level);
+        mInverseCellSize[std::size_t(level)] = 1.0 / mCellSize[std::size_t(level)];
+    }
 }
 
 RepulsionField::Sample RepulsionField::sample(Accessor& accessor, const Vec3d& local) const
 {
-    const openvdb::Vec3d index = mSampled->transform().worldToIndex(local);
-    const openvdb::Vec3d levelIndex = mSampledOnLevelVoxels ? index : mLevel->transform().worldToIndex(local);
-    const int level = accessor.level.getValue(openvdb::Coord::round(levelIndex));
-    if (mSampling == FieldSampling::Nearest) return {Vec3d(accessor.force.getValue(openvdb::Coord::round(index))), level};
-    openvdb::Vec3s f;
-    openvdb::tools::BoxSampler::sample(accessor.force, index, f);
-    return {Vec3d(f), level};
+    const Vec3d index = mSampledIndex(local);
+    const int level = accessor.level.getValue(openvdb::Coord::round(mSampledOnLevelVoxels ? index : mLevelIndex(local)));
+    if (mSampling == FieldSampling::Nearest) return {Vec3d(accessor.force.valueAt(openvdb::Coord::round(index))), level};
+    return {Vec3d(accessor.force.atIndex(index)), level};
+}
+
+int RepulsionField::levelAt(Accessor& accessor, const Vec3d& local) const
+{
+    return accessor.level.getValue(openvdb::Coord::round(mLevelIndex(local)));
+}
+
+BBoxd RepulsionField::levelCell(const Vec3d& local, int level) const
+{
+    const double voxel = 1.0 / mLevelIndex.inverseVoxel.x();
+    BBoxd cell;
+    if (mMethod == RepulsionMethod::Octree && level >= 1 && level <= mDepth) {
+        // Leaves are the cubes of their level's lattice over the root, and
+        // the level grid's voxels are the finest leaves (voxelizeField's
+        // default). A cube misplaced by rounding does not hold local once shrunk.
+        const double side = cellSize(level), inverse = mInverseCellSize[std::size_t(level)];
+        const Vec3d corner = mBounds.min() + Vec3d(std::floor((local.x() - mBounds.min().x()) * inverse),
+                                                   std::floor((local.y() - mBounds.min().y()) * inverse),
+                                                   std::floor((local.z() - mBounds.min().z()) * inverse)) *
+                                                 side;
+        cell = BBoxd(corner, corner + Vec3d(side));
+    } else {
+        const Vec3d index = mLevelIndex(local);
+        // The voxel Coord::round picks.
+        const Vec3d centre(std::floor(index.x() + 0.5) * voxel, std::floor(index.y() + 0.5) * voxel,
+                           std::floor(index.z() + 0.5) * voxel);
+        cell = BBoxd(mLevelIndex.origin + centre - Vec3d(0.5 * voxel), mLevelIndex.origin + centre + Vec3d(0.5 * voxel));
+    }
+    const double margin = 1e-6 * voxel;
+    cell = BBoxd(cell.min() + Vec3d(margin), cell.max() - Vec3d(margin));
+    return cell.isInside(local) ? cell : BBoxd();
 }
 
 Vec3d RepulsionField::hitTest(const std::vector<Vec3d>& points) const
@@ -86,7 +139,7 @@ public:
         mLevel = grids.level;
         setSampling(sampling, sampling == FieldSampling::Dual ? smoothForceGrid(mOctree) : nullptr);
     }
-    double cellSize(int level) const override { return mOctree.cellSize(level); }
+    double structureCellSize(int level) const override { return mOctree.cellSize(level); }
     Vec3d hitTest(const std::vector<Vec3d>& points) const override { return mOctree.hitTest(points); }
     std::size_t memoryBytes() const override { return mOctree.memoryBytes() + RepulsionField::memoryBytes(); }
 

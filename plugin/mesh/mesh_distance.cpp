@@ -1,6 +1,5 @@
 #include <vfield/mesh/mesh_distance.h>
 
-#include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/MeshToVolume.h>
 
 #include <algorithm>
@@ -46,12 +45,7 @@ MeshDistance::MeshDistance(const TriangleMesh& mesh, double voxelSize, double ex
     mReach.expand(mExteriorBand);
 }
 
-double MeshDistance::distance(Accessor& accessor, const Vec3d& p) const
-{
-    float value;
-    openvdb::tools::BoxSampler::sample(accessor, p / mVoxelSize, value);
-    return value;
-}
+double MeshDistance::distance(Accessor& accessor, const Vec3d& p) const { return accessor.atIndex(p / mVoxelSize); }
 
 Vec3d MeshDistance::gradient(Accessor& accessor, const Vec3d& p) const
 {

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
 
 namespace vfield {
 
@@ -51,6 +52,9 @@ Simulator::FieldsAt Simulator::fieldsAt(const Vec3d& p, double time, double mass
     Vec3d force(0.0), flow(0.0);
     bool inAnyField = false;
     double cell = std::numeric_limits<double>::infinity();
+    // Narrowed by each field below; the whole world where none is.
+    Vec3d sameMin(-std::numeric_limits<double>::max()), sameMax(std::numeric_limits<double>::max());
+    bool sameBoundKnown = withForces;
     for (std::size_t k = 0; k < mRepulsive.size(); ++k) {
         const std::size_t i = mRepulsive[k];
         const SimObject& object = mObjects[i];
@@ -59,8 +63,10 @@ Simulator::FieldsAt Simulator::fieldsAt(const Vec3d& p, double time, double mass
         const Transform& pose = object.spec->isDynamic ? (moving = poseAt(i, time)) : mStates[i].pose;
         const bool inWorld = mWorldIsObject[i];
         const Vec3d local = inWorld ? p : objectPoint(pose, p);
+        // Near a field that moves or turns, its cells are not followed: a read decides.
+        if (object.spec->isDynamic || (!inWorld && isRotated(pose))) sameBoundKnown = false;
         // A moving field reaches whatever its root sweeps over during the frame.
-        const double sweep = k < mFieldSpeed.size() ? mFieldSpeed[k] * mFieldFrameTime / pose.scale : 0.0;
+        const double sweep = k < mFieldSpeed.size() && mFieldSpeed[k] > 0.0 ? mFieldSpeed[k] * mFieldFrameTime / pose.scale : 0.0;
         if (sweep > 0.0) {
             BBoxd reach = field.bounds();
             reach.expand(sweep);
@@ -74,11 +80,20 @@ Simulator::FieldsAt Simulator::fieldsAt(const Vec3d& p, double time, double mass
                 (field.isFlow() ? flow : force) += !inWorld && isRotated(pose) ? pose.rotateToWorld(sample.force) : sample.force;
                 if (field.isFlow() && sample.level > 0) at.inFlow = true;
                 level = sample.level;
+                const BBoxd cellBox = sameBoundKnown ? field.levelCell(local, level) : BBoxd();
+                if (cellBox.min().x() > cellBox.max().x()) sameBoundKnown = false; // on a cell's face
+                if (sameBoundKnown) {
+                    const Vec3d lo = inWorld ? cellBox.min() : pose.worldFromObject(cellBox.min());
+                    const Vec3d hi = inWorld ? cellBox.max() : pose.worldFromObject(cellBox.max());
+                    sameMin = openvdb::math::maxComponent(sameMin, lo);
+                    sameMax = openvdb::math::minComponent(sameMax, hi);
+                }
             } else {
-                level = accessors[k].level.getValue(openvdb::Coord::round(field.level()->transform().worldToIndex(local)));
+                level = field.levelAt(accessors[k], local);
             }
             level = std::max(level, 1);
         } else if (sweep == 0.0) {
+            sameBoundKnown = false; // p may step into the field
             continue;
         }
         inAnyField = true;
@@ -86,6 +101,7 @@ Simulator::FieldsAt Simulator::fieldsAt(const Vec3d& p, double time, double mass
         if (k < mFieldSpeed.size()) at.bound.fieldSpeed = std::max(at.bound.fieldSpeed, mFieldSpeed[k]);
     }
     if (inAnyField) at.bound.cell = cell;
+    if (sameBoundKnown) at.sameBound = BBoxd(sameMin, sameMax);
     at.acceleration = force / mass + flow;
     return at;
 }
@@ -131,14 +147,18 @@ bool Simulator::resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t,
         const double travel = std::sqrt(3.0) * (b - a).length();
         double& bound = lowerBounds[k];
         if (isDynamic) bound = -std::numeric_limits<double>::infinity(); // it moved: unknown
+        const double skin = distance.voxelSize();
+        if (bound - travel >= 0.5 * skin) { // what the rest would decide, at no read
+            bound -= travel;
+            continue;
+        }
         BBoxd path(a, a);
         path.expand(b);
         if (!path.hasOverlap(distance.reach())) {
             bound -= travel;
             continue;
         }
-        const double skin = distance.voxelSize();
-        if (bound - travel < 0.5 * skin) bound = distance.distance(accessors[k], a);
+        bound = distance.distance(accessors[k], a);
         bound -= travel; // now a bound at b
         if (bound >= 0.5 * skin) continue;
         const int samples = std::max(1, int(std::ceil((b - a).length() / skin)));
@@ -191,9 +211,17 @@ void Simulator::advanceParticles(double t0, double t1)
     if (mFrame % kSortInterval == 0) mParticles.sortSpatially(mDomain);
     const std::size_t n = mParticles.size();
     std::vector<uint8_t> alive(n, 1);
-    std::vector<uint32_t> substepsOf(n, 0), contactsOf(n, 0), insideOf(n, 0);
+    // Counted per task and summed (sums and a maximum: the same for any split).
+    std::mutex countsMutex;
     const double cfl = mSetup.options.cfl;
     measureFieldSpeeds(t0, t1);
+    // No cell is finer than this, so a substep starting in one cannot step
+    // into finer cells, and without moving fields none sweeps faster over it.
+    const double finestCell = std::min(mFinestCell, LocalBound{}.cell);
+    const bool fieldsMove = std::any_of(mFieldSpeed.begin(), mFieldSpeed.end(), [](double speed) { return speed > 0.0; });
+    const std::size_t contacts = mContact.size();
+    if (mKeptBounds.id.size() != n || mKeptBounds.bound.size() != n * contacts) // a new cloud: nothing carried
+        mKeptBounds = {std::vector<uint32_t>(n), std::vector<double>(n * contacts, -std::numeric_limits<double>::infinity())};
 
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& range) {
         std::vector<RepulsionField::Accessor> accessors;
@@ -201,13 +229,17 @@ void Simulator::advanceParticles(double t0, double t1)
         std::vector<MeshDistance::Accessor> distances;
         for (const std::size_t i : mContact) distances.push_back(mObjects[i].distance->accessor());
         std::vector<double> lowerBounds(mContact.size());
+        StepStats counts;
+        DragFactors drag;
         for (std::size_t p = range.begin(); p != range.end(); ++p) {
             const CloudSpec& cloud = mSetup.clouds[mParticles.cloud[p]];
             const std::vector<std::size_t>& fields = mCloudFields[mParticles.cloud[p]];
             Vec3d x(mParticles.position[p]), v(mParticles.velocity[p]);
             double t = t0;
             uint32_t steps = 0;
-            std::fill(lowerBounds.begin(), lowerBounds.end(), -std::numeric_limits<double>::infinity());
+            const bool boundsKept = mKeptBounds.id[p] == mParticles.id[p];
+            for (std::size_t k = 0; k < contacts; ++k)
+                lowerBounds[k] = boundsKept ? mKeptBounds.bound[p * contacts + k] : -std::numeric_limits<double>::infinity();
             while (t < t1) {
                 const FieldsAt at = fieldsAt(x, t, cloud.mass, accessors.data(), true);
                 const Vec3d a = uniformAcceleration(fields, x) + at.acceleration;
@@ -219,42 +251,63 @@ void Simulator::advanceParticles(double t0, double t1)
                 // counting the motion of fields sweeping over it; where the
                 // step would end in finer cells, those bound it too.
                 const LocalBound& here = at.bound;
-                double dt = std::min(t1 - t, stepLimit(v.length() + here.fieldSpeed, a.length(), cfl * here.cell));
-                const LocalBound there = fieldsAt(x + v * dt, t + dt, cloud.mass, accessors.data(), false).bound;
-                if (there.cell < here.cell || there.fieldSpeed > here.fieldSpeed)
-                    dt = std::min(dt, stepLimit(v.length() + std::max(here.fieldSpeed, there.fieldSpeed), a.length(),
-                                                cfl * std::min(here.cell, there.cell)));
+                double dt = stepWithin(t1 - t, v, here.fieldSpeed, a, cfl * here.cell);
+                if ((here.cell > finestCell || fieldsMove) && !at.sameBound.isInside(x + v * dt)) {
+                    const LocalBound there = fieldsAt(x + v * dt, t + dt, cloud.mass, accessors.data(), false).bound;
+                    if (there.cell < here.cell || there.fieldSpeed > here.fieldSpeed)
+                        dt = stepWithin(dt, v, std::max(here.fieldSpeed, there.fieldSpeed), a,
+                                        cfl * std::min(here.cell, there.cell));
+                }
                 dt = std::max(dt, 1e-9 * (t1 - t0));
                 const Vec3d from = x;
                 if (carried) x += v * dt;
-                else integrateWithDrag(x, v, a, cloud.drag, dt);
+                else {
+                    drag.update(cloud.drag, dt);
+                    drag.step(x, v, a, dt);
+                }
                 if (!mContact.empty()) {
-                    if (resolveContacts(from, x, v, t, dt, distances, lowerBounds)) ++contactsOf[p];
-                    if (endsInside(x, t + dt, distances, lowerBounds)) ++insideOf[p];
+                    if (resolveContacts(from, x, v, t, dt, distances, lowerBounds)) ++counts.contacts;
+                    if (endsInside(x, t + dt, distances, lowerBounds)) ++counts.endedInside;
                 }
                 t = (t1 - t <= dt) ? t1 : t + dt;
                 ++steps;
                 if (!mDomain.isInside(x)) {
                     alive[p] = 0;
+                    ++counts.removed;
                     break;
                 }
             }
             mParticles.position[p] = Vec3f(x);
             mParticles.velocity[p] = Vec3f(v);
+            // The next frame starts from the stored (rounded) position: its bounds are that much lower.
+            const double rounding = std::sqrt(3.0) * (Vec3d(mParticles.position[p]) - x).length();
+            mKeptBounds.id[p] = mParticles.id[p];
+            for (std::size_t k = 0; k < contacts; ++k) mKeptBounds.bound[p * contacts + k] = lowerBounds[k] - rounding;
             mParticles.peak[p] = std::max(mParticles.peak[p], mParticles.position[p].y());
-            substepsOf[p] = steps;
+            counts.substeps += steps;
+            counts.maxSubsteps = std::max(counts.maxSubsteps, steps);
         }
+        const std::lock_guard<std::mutex> lock(countsMutex);
+        mLastStep.substeps += counts.substeps;
+        mLastStep.maxSubsteps = std::max(mLastStep.maxSubsteps, counts.maxSubsteps);
+        mLastStep.contacts += counts.contacts;
+        mLastStep.endedInside += counts.endedInside;
+        mLastStep.removed += counts.removed;
     });
 
-    for (std::size_t p = 0; p < n; ++p) {
-        mLastStep.substeps += substepsOf[p];
-        mLastStep.maxSubsteps = std::max(mLastStep.maxSubsteps, substepsOf[p]);
-        mLastStep.contacts += contactsOf[p];
-        mLastStep.endedInside += insideOf[p];
-        if (!alive[p]) ++mLastStep.removed;
-    }
     mRemovedTotal += mLastStep.removed;
-    if (mLastStep.removed > 0) mParticles.keep(alive);
+    if (mLastStep.removed > 0) {
+        mParticles.keep(alive);
+        std::size_t kept = 0;
+        for (std::size_t p = 0; p < n; ++p) {
+            if (!alive[p]) continue;
+            mKeptBounds.id[kept] = mKeptBounds.id[p];
+            std::copy_n(mKeptBounds.bound.begin() + p * contacts, contacts, mKeptBounds.bound.begin() + kept * contacts);
+            ++kept;
+        }
+        mKeptBounds.id.resize(kept);
+        mKeptBounds.bound.resize(kept * contacts);
+    }
 }
 
 void Simulator::updateRestPositions()

@@ -129,6 +129,7 @@ void Simulator::restoreState(const std::string& bytes)
     mStates = std::move(states);
     mStatesAtFrameStart = mStates;
     mParticles = std::move(particles);
+    mKeptBounds = {};
     updateRestPositions();
 }
 

@@ -60,6 +60,9 @@ public:
         return openvdb::tools::BoxSampler::trilinearInterpolation(data, uvw);
     }
 
+    /// The value of one voxel, as the tree's accessor reads it.
+    ValueType valueAt(const openvdb::Coord& ijk) { return mAccessor.getValue(ijk); }
+
 private:
     using LeafT = typename TreeT::LeafNodeType;
 

@@ -32,6 +32,7 @@
 /// side / 2^(maxLevel - 1).
 
 #include <vfield/core/math.h>
+#include <vfield/core/trilinear_sampler.h>
 #include <vfield/field/octree_field.h>
 #include <vfield/mesh/triangle_mesh.h>
 
@@ -117,7 +118,10 @@ public:
     double rootSide() const { return mSide; }
     int depth() const { return mDepth; } ///< the finest level present
     /// Edge of the field's structure at a level read from level(), object units.
-    virtual double cellSize(int level) const;
+    double cellSize(int level) const
+    {
+        return level >= 1 && std::size_t(level) < mCellSize.size() ? mCellSize[std::size_t(level)] : structureCellSize(level);
+    }
     double finestCellSize() const { return cellSize(mDepth); }
 
     FieldSampling sampling() const { return mSampling; }
@@ -132,10 +136,10 @@ public:
 
     /// Cached reads of sampledForce() and level(), one per thread.
     struct Accessor {
-        openvdb::Vec3SGrid::ConstAccessor force;
+        TrilinearSampler<openvdb::Vec3STree> force;
         openvdb::Int32Grid::ConstAccessor level;
     };
-    Accessor accessor() const { return {mSampled->getConstAccessor(), mLevel->getConstAccessor()}; }
+    Accessor accessor() const { return {TrilinearSampler(mSampled->tree()), mLevel->getConstAccessor()}; }
     struct Sample {
         Vec3d force; ///< as force() holds it
         int level;   ///< of the voxel holding the point: cellSize(level) is the structure there
@@ -143,6 +147,17 @@ public:
     /// The force at an object-space point (zero outside bounds()), read as
     /// sampling() says, and the level there: what a substep needs.
     Sample sample(Accessor& accessor, const Vec3d& local) const;
+    /// The level at an object-space point (0 outside bounds()): sample()'s
+    /// level without the force.
+    int levelAt(Accessor& accessor, const Vec3d& local) const;
+    /// A box around an object-space point inside bounds(), with the level
+    /// sample() read there, over which levelAt() reads that same level: the
+    /// octree leaf holding the point, or for the other methods its voxel,
+    /// shrunk by a millionth of a voxel so that rounding cannot put a point
+    /// in it on a neighbour's side. Empty when the point lies within that
+    /// millionth of the cell's faces. What spares a substep staying in its
+    /// cell a second read of the level where it ends.
+    BBoxd levelCell(const Vec3d& local, int level) const;
 
     /// The paper's hit test of another object's points (object space of this
     /// field): the normalized average of the unit directions at the points
@@ -162,6 +177,23 @@ protected:
     RepulsionMethod mMethod = RepulsionMethod::Octree;
     FieldSampling mSampling = FieldSampling::Nearest;
     bool mSampledOnLevelVoxels = true; ///< sampledForce() and level() share their voxels
+    /// The grids' world-to-index maps, kept out of their Transforms' virtual
+    /// calls (a substep reads them twice): index = (p - origin) * inverseVoxel,
+    /// as OpenVDB's scale-translate map computes it.
+    struct IndexMap {
+        Vec3d origin, inverseVoxel;
+        Vec3d operator()(const Vec3d& p) const
+        {
+            return Vec3d((p.x() - origin.x()) * inverseVoxel.x(), (p.y() - origin.y()) * inverseVoxel.y(),
+                         (p.z() - origin.z()) * inverseVoxel.z());
+        }
+    };
+    IndexMap mSampledIndex, mLevelIndex;
+    /// cellSize(level) and its inverse by level, 1..depth(), from setSampling
+    /// on: every particle substep asks.
+    std::vector<double> mCellSize, mInverseCellSize;
+    /// The method's cell size at a level (the octree's own table, or the root halved level - 1 times).
+    virtual double structureCellSize(int level) const;
     BBoxd mBounds;
     double mSide = 0.0;
     int mDepth = 1;

@@ -8,6 +8,7 @@
 /// read as its width, a lower bound.
 
 #include <vfield/core/math.h>
+#include <vfield/core/trilinear_sampler.h>
 #include <vfield/mesh/triangle_mesh.h>
 
 #include <openvdb/openvdb.h>
@@ -19,7 +20,8 @@ namespace vfield {
 
 class MeshDistance {
 public:
-    using Accessor = openvdb::FloatGrid::ConstAccessor;
+    /// Cached reads, one per thread.
+    using Accessor = TrilinearSampler<openvdb::FloatTree>;
 
     /// Told how far the build is, in percent, as OpenVDB's mesh-to-volume
     /// conversion estimates it (a few steps: 30, 45, 50, 54, ..., 99).
@@ -34,7 +36,7 @@ public:
     double exteriorBand() const { return mExteriorBand; }
     /// The mesh's bounds grown by the exterior band: where values are meaningful.
     const BBoxd& reach() const { return mReach; }
-    Accessor accessor() const { return mGrid->getConstAccessor(); }
+    Accessor accessor() const { return Accessor(mGrid->tree()); }
 
     /// Signed distance at an object-space point, trilinear.
     double distance(Accessor& accessor, const Vec3d& p) const;

@@ -153,6 +153,10 @@ private:
         Vec3d acceleration{0.0}; ///< of a point of the given mass
         LocalBound bound;
         bool inFlow = false; ///< p lies in the band of a potential flow (RepulsionMethod::PotentialFlow)
+        /// With forces: a world box around p over which the bound is as at
+        /// p (the cells of static fields holding p, RepulsionField::levelCell);
+        /// empty near a dynamic or rotated field or the edge of a field.
+        BBoxd sameBound;
     };
     FieldsAt fieldsAt(const Vec3d& p, double time, double mass, RepulsionField::Accessor* accessors, bool withForces) const;
     void advanceDynamicObjects(double t0, double t1, const std::function<void()>& afterSubstep);
@@ -165,7 +169,8 @@ private:
     /// Contact of a particle's substep from -> x with the closed meshes
     /// (mContact). lowerBounds holds, per such object, a lower bound of the
     /// distance read where the particle starts, or -infinity: a static
-    /// object's bound is carried from substep to substep, since reads change
+    /// object's bound is carried from substep to substep (and, through
+    /// mKeptBounds, from frame to frame), since reads change
     /// by at most sqrt(3) per unit moved, so that substeps far from its
     /// surface read nothing and decide as a read would.
     bool resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t, double dt,
@@ -191,6 +196,18 @@ private:
     ParticleSet mParticles;
     BBoxd mDomain;
     double mFinestCell = 0.0;
+    /// Per particle, after its last frame: its id and, per closed mesh
+    /// (mContact order), resolveContacts's lower bound of its distance there
+    /// (unused for dynamic objects, unknown again at every substep). A cache,
+    /// not state: a particle whose
+    /// id differs (sorted, removed) or a restored state reads afresh. It
+    /// spares most particles' first substep of a frame its read of a static
+    /// surface, and changes no decision (a bound only skips what a read would).
+    struct KeptBounds {
+        std::vector<uint32_t> id;
+        std::vector<double> bound;
+    };
+    KeptBounds mKeptBounds;
     std::vector<double> mFieldSpeed; ///< per repulsive object this frame (measureFieldSpeeds)
     double mFieldFrameTime = 0.0;    ///< the frame's length, for the swept roots
     ObjectReplay mReplay;            ///< empty: the flight model moves the dynamic objects
