@@ -6,12 +6,13 @@
 
 #include <vfield/core/math.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 namespace vfield {
 
-// Both inline: every particle's substep calls them.
+// Inline, all of it: every particle's substep calls it.
 
 /// The longest dt for which |v| dt + |a| dt^2 <= reach (the substep's travel bound).
 inline double stepLimit(double speed, double acceleration, double reach)
@@ -19,14 +20,6 @@ inline double stepLimit(double speed, double acceleration, double reach)
     if (acceleration <= 0.0) return speed > 0.0 ? reach / speed : std::numeric_limits<double>::infinity();
     return 2.0 * reach / (speed + std::sqrt(speed * speed + 4.0 * acceleration * reach));
 }
-
-/// One substep of dv/dt = a - drag v with a held constant: the velocity
-/// relaxes exactly towards the terminal velocity a / drag, as exp(-drag dt),
-/// so any drag is stable (an explicit step overshoots once drag dt > 1); the
-/// position moves with the new velocity (semi-implicit Euler, which reacts to
-/// repulsion within the substep). With no drag this is v += a dt, x += v dt.
-/// The travel, |v_new| dt, is at most |v| dt + |a| dt^2: what stepLimit bounds.
-inline void integrateWithDrag(Vec3d& x, Vec3d& v, const Vec3d& a, double drag, double dt);
 
 /// integrateWithDrag's two exponentials for one h = drag dt, kept for the
 /// next substep with the same h: a particle of a cloud takes, as a rule, one
@@ -53,6 +46,12 @@ private:
     double mH = -1.0, mDecay = 1.0, mRelaxed = 1.0;
 };
 
+/// One substep of dv/dt = a - drag v with a held constant: the velocity
+/// relaxes exactly towards the terminal velocity a / drag, as exp(-drag dt),
+/// so any drag is stable (an explicit step overshoots once drag dt > 1); the
+/// position moves with the new velocity (semi-implicit Euler, which reacts to
+/// repulsion within the substep). With no drag this is v += a dt, x += v dt.
+/// The travel, |v_new| dt, is at most |v| dt + |a| dt^2: what stepLimit bounds.
 inline void integrateWithDrag(Vec3d& x, Vec3d& v, const Vec3d& a, double drag, double dt)
 {
     DragFactors factors;
