@@ -298,15 +298,8 @@ void Simulator::advanceParticles(double t0, double t1)
     mRemovedTotal += mLastStep.removed;
     if (mLastStep.removed > 0) {
         mParticles.keep(alive);
-        std::size_t kept = 0;
-        for (std::size_t p = 0; p < n; ++p) {
-            if (!alive[p]) continue;
-            mKeptBounds.id[kept] = mKeptBounds.id[p];
-            std::copy_n(mKeptBounds.bound.begin() + p * contacts, contacts, mKeptBounds.bound.begin() + kept * contacts);
-            ++kept;
-        }
-        mKeptBounds.id.resize(kept);
-        mKeptBounds.bound.resize(kept * contacts);
+        keepFlagged(mKeptBounds.id, alive);
+        keepFlagged(mKeptBounds.bound, alive, contacts);
     }
 }
 

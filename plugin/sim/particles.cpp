@@ -23,27 +23,14 @@ void ParticleSet::reserve(std::size_t n)
 
 void ParticleSet::keep(const std::vector<uint8_t>& alive)
 {
-    std::size_t kept = 0;
-    for (std::size_t i = 0; i < size(); ++i) {
-        if (!alive[i]) continue;
-        position[kept] = position[i];
-        velocity[kept] = velocity[i];
-        rest[kept] = rest[i];
-        if (!rest2.empty()) rest2[kept] = rest2[i];
-        if (!peak.empty()) peak[kept] = peak[i];
-        id[kept] = id[i];
-        radius[kept] = radius[i];
-        if (!cloud.empty()) cloud[kept] = cloud[i];
-        ++kept;
-    }
-    position.resize(kept);
-    velocity.resize(kept);
-    rest.resize(kept);
-    if (!rest2.empty()) rest2.resize(kept);
-    if (!peak.empty()) peak.resize(kept);
-    id.resize(kept);
-    radius.resize(kept);
-    if (!cloud.empty()) cloud.resize(kept);
+    keepFlagged(position, alive);
+    keepFlagged(velocity, alive);
+    keepFlagged(rest, alive);
+    keepFlagged(rest2, alive);
+    keepFlagged(peak, alive);
+    keepFlagged(id, alive);
+    keepFlagged(radius, alive);
+    keepFlagged(cloud, alive);
 }
 
 namespace {

@@ -1,6 +1,7 @@
 // What the raw libraries do on the same data, so that every stage is reported
 // as a ratio measured in one run:
-//  - raw Embree: a primary ray per pixel and a shadow ray per hit
+//  - raw Embree: a primary ray per sample (one through a pixel's centre, or
+//    the showcase's own count jittered over it) and a shadow ray per hit
 //    (rtcIntersect1 / rtcOccluded1 over TBB tiles) on the showcase terrain,
 //    against vfield's surface-only frame;
 //  - a raw OpenVDB trilinear sampler loop over the showcase's force grid and
@@ -10,6 +11,7 @@
 #include "bench_showcase.h"
 
 #include <vfield/core/atomic_file.h>
+#include <vfield/render/embree/sample_random.h>
 #include <vfield/render/povray/df3.h>
 #include <vfield/render/povray/povray_runner.h>
 #include <vfield/render/povray/povray_scene.h>
@@ -59,7 +61,7 @@ void BM_RawEmbreeRays(benchmark::State& state)
 {
     ShowcaseFrame& s = showcase();
     static RawEmbree raw(s.terrain);
-    const int width = int(state.range(0)), height = int(state.range(1));
+    const int width = int(state.range(0)), height = int(state.range(1)), samplesPerPixel = int(state.range(2));
     const Camera camera = Camera::fromSettings(s.scene.render.camera, width, height);
     const Vec3f toSun(s.scene.render.sun.direction.unitSafe());
     std::vector<float> shade(std::size_t(width) * height);
@@ -69,20 +71,26 @@ void BM_RawEmbreeRays(benchmark::State& state)
             rtcInitIntersectContext(&context);
             for (int y = r.rows().begin(); y != r.rows().end(); ++y)
                 for (int x = r.cols().begin(); x != r.cols().end(); ++x) {
-                    const Vec3d dir = camera.direction(x + 0.5, y + 0.5);
-                    RTCRayHit hit{};
-                    hit.ray.org_x = float(camera.position()[0]);
-                    hit.ray.org_y = float(camera.position()[1]);
-                    hit.ray.org_z = float(camera.position()[2]);
-                    hit.ray.dir_x = float(dir[0]);
-                    hit.ray.dir_y = float(dir[1]);
-                    hit.ray.dir_z = float(dir[2]);
-                    hit.ray.tfar = std::numeric_limits<float>::infinity();
-                    hit.ray.mask = ~0u;
-                    hit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                    rtcIntersect1(raw.scene, &context, &hit);
+                    const uint32_t pixel = uint32_t(y) * uint32_t(width) + uint32_t(x);
                     float value = 0.0f;
-                    if (hit.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
+                    // One ray through the centre, or each jittered over the pixel, as vfield's.
+                    for (int sample = 0; sample < samplesPerPixel; ++sample) {
+                        SampleRandom random(0, pixel, uint32_t(sample));
+                        const double jx = samplesPerPixel == 1 ? 0.5 : random.next();
+                        const double jy = samplesPerPixel == 1 ? 0.5 : random.next();
+                        const Vec3d dir = camera.direction(x + jx, y + jy);
+                        RTCRayHit hit{};
+                        hit.ray.org_x = float(camera.position()[0]);
+                        hit.ray.org_y = float(camera.position()[1]);
+                        hit.ray.org_z = float(camera.position()[2]);
+                        hit.ray.dir_x = float(dir[0]);
+                        hit.ray.dir_y = float(dir[1]);
+                        hit.ray.dir_z = float(dir[2]);
+                        hit.ray.tfar = std::numeric_limits<float>::infinity();
+                        hit.ray.mask = ~0u;
+                        hit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                        rtcIntersect1(raw.scene, &context, &hit);
+                        if (hit.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
                         RTCRay shadow{};
                         shadow.org_x = hit.ray.org_x + hit.ray.dir_x * hit.ray.tfar * 0.999f;
                         shadow.org_y = hit.ray.org_y + hit.ray.dir_y * hit.ray.tfar * 0.999f;
@@ -93,20 +101,23 @@ void BM_RawEmbreeRays(benchmark::State& state)
                         shadow.tfar = std::numeric_limits<float>::infinity();
                         shadow.mask = ~0u;
                         rtcOccluded1(raw.scene, &context, &shadow);
-                        value = shadow.tfar < 0.0f ? 0.5f : 1.0f;
+                        value += shadow.tfar < 0.0f ? 0.5f : 1.0f;
                     }
-                    shade[std::size_t(y) * width + x] = value;
+                    shade[pixel] = value / float(samplesPerPixel);
                 }
         });
         benchmark::DoNotOptimize(shade.data());
     }
     state.counters["primary_rays_per_s"] =
-        benchmark::Counter(double(width) * height, benchmark::Counter::kIsIterationInvariantRate);
+        benchmark::Counter(double(width) * height * samplesPerPixel, benchmark::Counter::kIsIterationInvariantRate);
 }
+// At one sample a pixel and at the showcase's own (kShowcaseSamplesPerPixel).
 BENCHMARK(BM_RawEmbreeRays)
-    ->ArgNames({"w", "h"})
-    ->Args({640, 360})
-    ->Args({1280, 720})
+    ->ArgNames({"w", "h", "spp"})
+    ->Args({640, 360, 1})
+    ->Args({1280, 720, 1})
+    ->Args({640, 360, kShowcaseSamplesPerPixel})
+    ->Args({1280, 720, kShowcaseSamplesPerPixel})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

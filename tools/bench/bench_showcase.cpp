@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <stdexcept>
 
 namespace vfield::bench {
 
@@ -24,6 +25,10 @@ CloudAtFrame100& cloudAtFrame100(int64_t particles)
 
 ShowcaseFrame::ShowcaseFrame() : scene(loadScene(VFIELD_SCENES_DIR "/cloud_over_terrain.json"))
 {
+    if (scene.render.image.samplesPerPixel != kShowcaseSamplesPerPixel)
+        throw std::runtime_error("cloud_over_terrain.json renders " + std::to_string(scene.render.image.samplesPerPixel) +
+                                 " samples a pixel, the benchmarks " + std::to_string(kShowcaseSamplesPerPixel) +
+                                 ": update kShowcaseSamplesPerPixel");
     // Simulated once into a temporary folder, reused by later runs.
     const std::string dir = (std::filesystem::temp_directory_path() / "vfield-bench-render").string();
     const SimFolder folder(dir);

@@ -3,6 +3,8 @@
 // terrain), shared by the benchmarks: the simulator there, and the renderer's
 // surfaces, density and camera.
 
+#include "showcase_samples.h"
+
 #include <vfield/render/embree/renderer.h>
 #include <vfield/scene/scene.h>
 #include <vfield/sim/simulator.h>

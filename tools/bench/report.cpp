@@ -3,6 +3,8 @@
 // min and max over the repetitions, its ratio to its baseline and its target,
 // the scaling of each stage, and the machine.
 
+#include "showcase_samples.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -144,14 +146,20 @@ int main(int argc, char** argv)
                      spread(r.time("BM_RawOpenVdbSplat/detailVoxel:1"), "%.0f", "ms") + " at the detail's voxel",
                  format("%.2f", ratio) + "x the raw", "<= 2x", verdict(ratio <= 2.0)});
         }
-        for (const auto& [w, h] : std::vector<std::pair<std::string, std::string>>{{"640", "360"}, {"1280", "720"}}) {
-            const Samples& ours = r.time("BM_RenderSurfaces/w:" + w + "/h:" + h + "/spp:1");
-            const Samples& raw = r.time("BM_RawEmbreeRays/w:" + w + "/h:" + h);
-            const double ratio = raw.median() / ours.median();
-            row({"surfaces-only frame " + w + "x" + h + ", 1 spp", spread(ours, "%.1f", "ms"),
-                 spread(raw, "%.1f", "ms") + " raw Embree (primary + shadow)", format("%.2f", ratio), ">= 0.7",
-                 verdict(ratio >= 0.7)});
-        }
+        // The target holds at the showcase's own samples per pixel, over
+        // which a pixel's shading noise is shared; one sample a pixel is shown.
+        const std::string sceneSpp = std::to_string(vfield::bench::kShowcaseSamplesPerPixel);
+        for (const std::string& spp : {std::string("1"), sceneSpp})
+            for (const auto& [w, h] : std::vector<std::pair<std::string, std::string>>{{"640", "360"}, {"1280", "720"}}) {
+                const std::string size = "w:" + w + "/h:" + h + "/spp:" + spp;
+                const Samples& ours = r.time("BM_RenderSurfaces/" + size);
+                const Samples& raw = r.time("BM_RawEmbreeRays/" + size);
+                const double ratio = raw.median() / ours.median();
+                const bool targeted = spp == sceneSpp;
+                row({"surfaces-only frame " + w + "x" + h + ", " + spp + " spp" + (targeted ? " (the scene's)" : ""),
+                     spread(ours, "%.1f", "ms"), spread(raw, "%.1f", "ms") + " raw Embree (primary + shadow a sample)",
+                     format("%.2f", ratio), targeted ? ">= 0.7" : "", targeted ? verdict(ratio >= 0.7) : ""});
+            }
         const Samples& cloud = r.time("BM_RenderCloud/w:640/h:360/spp:1/skip:1");
         row({"cloud frame 640x360, 1 spp", spread(cloud, "%.0f", "ms"), "", "", "<= 300 ms", verdict(cloud.median() <= 300.0)});
         if (r.has("BM_PovrayFrame/w:320/h:180/spp:1")) {

@@ -6,11 +6,25 @@
 
 #include <vfield/core/math.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
 namespace vfield {
+
+/// Keeps the values whose flag is set, in order, `stride` consecutive values
+/// a flag (an attribute with several values a particle). An empty vector (an
+/// optional attribute not kept) stays empty.
+template<typename T>
+void keepFlagged(std::vector<T>& values, const std::vector<uint8_t>& alive, std::size_t stride = 1)
+{
+    if (values.empty()) return;
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < alive.size(); ++i)
+        if (alive[i]) std::copy_n(values.begin() + i * stride, stride, values.begin() + kept++ * stride);
+    values.resize(kept * stride);
+}
 
 struct ParticleSet {
     std::vector<Vec3f> position; ///< world units
