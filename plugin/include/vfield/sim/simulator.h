@@ -199,10 +199,10 @@ private:
     /// Per particle, after its last frame: its id and, per closed mesh
     /// (mContact order), resolveContacts's lower bound of its distance there
     /// (unused for dynamic objects, unknown again at every substep). A cache,
-    /// not state: a particle whose
-    /// id differs (sorted, removed) or a restored state reads afresh. It
-    /// spares most particles' first substep of a frame its read of a static
-    /// surface, and changes no decision (a bound only skips what a read would).
+    /// not state: a particle whose id differs (sorted, removed) or a restored
+    /// state reads afresh. It spares most particles' first substep of a frame
+    /// its read of a static surface, and changes no decision (a bound only
+    /// skips what a read would).
     struct KeptBounds {
         std::vector<uint32_t> id;
         std::vector<double> bound;
