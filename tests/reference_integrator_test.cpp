@@ -267,19 +267,45 @@ TEST_CASE("reference: in a dense cloud with structure finer than the light grids
     }
 }
 
+TEST_CASE("reference: in a thick cloud, the fast integrator with multiple scattering by paths is the reference's within "
+          "5%, front-, side- and back-lit",
+          "[render][reference]")
+{
+    // Optical radius 12, albedo 0.97, one strongly forward lobe, the sun
+    // alone: most of the light the camera sees has scattered many times.
+    const Vec3d camera(0, 8, 30);
+    for (const Vec3d& toSun : {Vec3d(0.3, 0.5, 1.0), Vec3d(1, 0.2, 0), Vec3d(0.3, 0.4, -1.0)}) {
+        FeatureScene scene(uniformSphere(2.0f), false, camera, kCentre, toSun);
+        scene.settings.medium.extinction = 1.0;
+        scene.settings.medium.albedo = 0.97;
+        scene.settings.medium.anisotropy = 0.75;
+        scene.settings.sky.intensity = 0.0;
+        scene.settings.integrator.multipleScattering.method = MultipleScatteringMethod::Paths;
+        const Agreement all = compare(scene, chordThroughTheSphere, 64);
+        INFO("sun towards " << toSun << ": fast " << all.fast << ", reference " << all.reference << " +- " << all.referenceError);
+        CHECK(all.relative() < 0.05);
+    }
+}
+
 TEST_CASE("reference: images are identical for 1 and 2 threads", "[render][reference]")
 {
     FeatureScene scene(uniformSphere(1.0f), true, Vec3d(0, 8, 30), kCentre, Vec3d(1, 0.2, 0));
-    RenderImage one, two;
-    {
-        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
-        one = scene.render(IntegratorKind::Reference, 4);
-    }
-    {
-        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
-        two = scene.render(IntegratorKind::Reference, 4);
-    }
-    CHECK(one.rgba == two.rgba);
+    const auto sameForOneAndTwoThreads = [&](IntegratorKind kind, int samples) {
+        RenderImage one, two;
+        {
+            tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+            one = scene.render(kind, samples);
+        }
+        {
+            tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+            two = scene.render(kind, samples);
+        }
+        return one.rgba == two.rgba;
+    };
+    CHECK(sameForOneAndTwoThreads(IntegratorKind::Reference, 4));
+    // The fast integrator's light scattered many times, traced by the reference's paths.
+    scene.settings.integrator.multipleScattering.method = MultipleScatteringMethod::Paths;
+    CHECK(sameForOneAndTwoThreads(IntegratorKind::Fast, 1));
 }
 
 TEST_CASE("reference: its noise falls as one over the square root of the samples", "[render][reference]")

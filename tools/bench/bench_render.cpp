@@ -1,6 +1,7 @@
 // Benchmarks of the Embree back-end on the cloud showcase at frame 100: a
 // surface-only frame, and a cloud frame with and without empty-space
-// skipping; and the main job's frame 120 with more and more particles.
+// skipping, and with multiple scattering by paths; and the main job's frame
+// 120 with more and more particles.
 
 #include "bench_showcase.h"
 
@@ -62,6 +63,22 @@ BENCHMARK(BM_RenderCloud)
     ->Args({1920, 1080, 1, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+/// The same frame with the light scattered more than once traced by the
+/// reference's paths (MultipleScatteringMethod::Paths), its lattice built
+/// every iteration, as per frame.
+void BM_RenderCloudPaths(benchmark::State& state)
+{
+    ShowcaseFrame& s = showcase();
+    RenderSettings settings = s.settings(int(state.range(0)), int(state.range(1)), int(state.range(2)));
+    settings.integrator.multipleScattering.method = MultipleScatteringMethod::Paths;
+    for (auto _ : state) {
+        const CloudLighting lighting(s.density, settings.medium, settings.sun.direction, s.sunBlocked());
+        const CloudVolume volume(lighting, settings.medium, settings.integrator);
+        benchmark::DoNotOptimize(renderFrame(s.frame(settings, &volume)));
+    }
+}
+BENCHMARK(BM_RenderCloudPaths)->ArgNames({"w", "h", "spp"})->Args({640, 360, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 /// The main job's frame 120 at 640x360, 1 spp, with its bank splatted from
 /// `particles` particles (outside the timing): what the cloud's particle

@@ -90,9 +90,10 @@ void addRenderShorthands(CLI::App& command, SceneCliOptions& options)
         "--transparent-sky", [&options] { options.shorthands.push_back("/render/transparentSky=true"); },
         "Draw the sky as RGB 0, alpha 0 (premultiplied), to composite over a plate (--set /render/transparentSky=true) "
         "[default: the scene's]");
-    addEnumShorthand<IntegratorKind>(command, options, "--integrator", "/render/integrator",
-                                     "vfield's renderer: fast (ray march, light grids, multiple scattering by octaves) or "
-                                     "reference (an unbiased path tracer, slow and noisy: give it many --spp)");
+    addEnumShorthand<IntegratorKind>(
+        command, options, "--integrator", "/render/integrator",
+        "vfield's renderer: fast (ray march, light grids, multiple scattering by octaves or by paths) or "
+        "reference (an unbiased path tracer, slow and noisy: give it many --spp)");
 }
 
 Scene loadScene(const SceneCliOptions& options)

@@ -71,37 +71,80 @@ double CloudVolume::surfaceSunTransmittance(const Vec3d& p) const
     return sum / weights;
 }
 
+CloudVolume::OctavePhases CloudVolume::octavePhases(const Vec3d& dir) const
+{
+    OctavePhases phases{};
+    for (std::size_t i = 0; i < mOctaves.size(); ++i) phases[i] = mOctaves[i].medium.phase(dir.dot(mLighting.toSun()));
+    return phases;
+}
+
+// The light grids average the density over cells before the exponential
+// and interpolate over a cell, while near a lit surface of a dense cloud
+// the light changes within a mean free path, a fraction of a cell: they
+// drew billows as blocks and streaks, and their single scattering was 12%
+// too bright in a sphere of dense lumps (the mean density's exponential,
+// Jensen's inequality) and 6-14% too dark in a billowed cumulus
+// (tests/reference_integrator_test.cpp, README). So the way towards each
+// light is marched through the density itself, in steps growing from a
+// quarter of a cell, for about twelve cells or until no light is left,
+// and the grid is read only beyond (CloudVolume::mNearSteps).
+template<typename GridBeyond>
+float CloudVolume::lightThrough(Density& density, const Vec3d& p, const Vec3d& towards, const GridBeyond& gridBeyond) const
+{
+    const openvdb::math::Transform& transform = mLighting.density().transform();
+    double opticalDepth = 0.0, s = 0.0;
+    for (const double ds : mNearSteps) {
+        opticalDepth += mExtinction * density.atIndex(transform.worldToIndex(p + towards * (s + 0.5 * ds))) * ds;
+        s += ds;
+        if (opticalDepth > kOpaqueDepth) return 0.0f;
+    }
+    return float(std::exp(-opticalDepth) * gridBeyond(p + towards * s));
+}
+
+float CloudVolume::sunThroughCloud(Density& density, const Vec3d& p) const
+{
+    return lightThrough(density, p, mLighting.toSun(), [&](const Vec3d& q) { return mLighting.sunInCloud(q); });
+}
+
+float CloudVolume::sunThrough(Density& density, const Vec3d& p) const
+{
+    return mLighting.sunVisible(p) * sunThroughCloud(density, p);
+}
+
+CloudVolume::OctaveLight CloudVolume::octaveLight(Density& density, const Vec3d& p, const OctavePhases& phases) const
+{
+    const float sunT = sunThrough(density, p),
+                skyT = lightThrough(density, p, kUp, [&](const Vec3d&q) { return mLighting.skyTransmittance(q); });
+    // The sky lights the cloud through the cloud above it, so bases darken
+    // and tops stay bright. Octave 0 is single scattering, the light seen
+    // through T; octave i >= 1 adds a^i of the light the cloud took away,
+    // T^(b^i) - T (e^(b^i ln T) - T): nothing where the cloud is thin, more
+    // deep inside. The sky's light, diffuse already, takes its own a. A light
+    // blocked outright (T = 0: a surface in the way) stays dark in every octave.
+    const double logSun = std::log(std::min(double(sunT), 1.0)), logSky = std::log(std::min(double(skyT), 1.0));
+    OctaveLight light;
+    light.sunShare = phases[0] * sunT;
+    light.skyShare = skyT;
+    for (std::size_t i = 1; i < mOctaves.size(); ++i) {
+        const Octave& octave = mOctaves[i];
+        if (sunT > 0.0f) light.sunShare += octave.scattering * phases[i] * (std::exp(octave.extinction * logSun) - sunT);
+        if (skyT > 0.0f) light.skyShare += octave.skyScattering * (std::exp(octave.extinction * logSky) - skyT);
+    }
+    return light;
+}
+
 CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, double tMin, double tMax, double jitter,
-                                        const Vec3d& sunRadiance, const Vec3d& skyRadiance) const
+                                        const Vec3d& sunRadiance, const Vec3d& skyRadiance,
+                                        const ScatteredLightGrid* scattered) const
 {
     Segment segment;
     if (!mLighting.clip(origin, dir, tMin, tMax)) return segment;
     const openvdb::FloatGrid& densityGrid = mLighting.density();
-    TrilinearSampler<openvdb::FloatTree> density(densityGrid.tree());
+    Density density(densityGrid.tree());
     const openvdb::math::Transform& densityTransform = densityGrid.transform();
-    // The light grids average the density over cells before the exponential
-    // and interpolate over a cell, while near a lit surface of a dense cloud
-    // the light changes within a mean free path, a fraction of a cell: they
-    // drew billows as blocks and streaks, and their single scattering was 12%
-    // too bright in a sphere of dense lumps (the mean density's exponential,
-    // Jensen's inequality) and 6-14% too dark in a billowed cumulus
-    // (tests/reference_integrator_test.cpp, README). So the way towards each
-    // light is marched through the density itself, in steps growing from a
-    // quarter of a cell, for about twelve cells or until no light is left,
-    // and the grid is read only beyond (CloudVolume::mNearSteps).
-    const auto lightThrough = [&](const Vec3d& p, const Vec3d& towards, const auto& gridBeyond) {
-        double opticalDepth = 0.0, s = 0.0;
-        for (const double ds : mNearSteps) {
-            opticalDepth += mExtinction * density.atIndex(densityTransform.worldToIndex(p + towards * (s + 0.5 * ds))) * ds;
-            s += ds;
-            if (opticalDepth > kOpaqueDepth) return 0.0f;
-        }
-        return float(std::exp(-opticalDepth) * gridBeyond(p + towards * s));
-    };
     // Sunlight travels along -toSun and leaves towards the origin along -dir:
     // the angle between the two is that between dir and toSun.
-    std::array<double, 8> octavePhase{}; // MultipleScattering::octaves is at most 8
-    for (std::size_t i = 0; i < mOctaves.size(); ++i) octavePhase[i] = mOctaves[i].medium.phase(dir.dot(mLighting.toSun()));
+    const OctavePhases phases = octavePhases(dir);
 
     double opacitySum = 0.0, weightedDistance = 0.0;
     const auto finished = [&] {
@@ -124,26 +167,16 @@ CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, d
             const double rho = density.atIndex(densityTransform.worldToIndex(p));
             if (rho <= 0.0) continue;
             const double stepTransmittance = std::exp(-mExtinction * rho * dt);
-            const float sunT = mLighting.sunVisible(p) *
-                               lightThrough(p, mLighting.toSun(), [&](const Vec3d&q) { return mLighting.sunInCloud(q); }),
-                        skyT = lightThrough(p, kUp, [&](const Vec3d&q) { return mLighting.skyTransmittance(q); });
-            // In-scattered light of the step, integrated exactly for constant density:
-            // (1 - e^(-sigma_t dt)) * albedo * source. The sky lights the cloud
-            // through the cloud above it, so bases darken and tops stay bright.
-            // Octave 0 is single scattering, the light seen through T; octave
-            // i >= 1 adds a^i of the light the cloud took away, T^(b^i) - T
-            // (e^(b^i ln T) - T): nothing where the cloud is thin, more deep
-            // inside. The sky's light, diffuse already, takes its own a.
-            // A light blocked outright (T = 0: a surface in the way) stays dark in every octave.
-            const double logSun = std::log(std::min(double(sunT), 1.0)), logSky = std::log(std::min(double(skyT), 1.0));
-            double sunShare = octavePhase[0] * sunT, skyShare = skyT;
-            for (std::size_t i = 1; i < mOctaves.size(); ++i) {
-                const Octave& octave = mOctaves[i];
-                if (sunT > 0.0f) sunShare += octave.scattering * octavePhase[i] * (std::exp(octave.extinction * logSun) - sunT);
-                if (skyT > 0.0f) skyShare += octave.skyScattering * (std::exp(octave.extinction * logSky) - skyT);
-            }
-            const Vec3d source = sunRadiance * sunShare + skyRadiance * skyShare;
             const double opacity = segment.transmittance * (1.0 - stepTransmittance);
+            // In-scattered light of the step, integrated exactly for constant density:
+            // (1 - e^(-sigma_t dt)) * albedo * source.
+            Vec3d source;
+            if (scattered) { // the sun's single scattering, and the rest as the paths found it
+                source = sunRadiance * (phases[0] * sunThrough(density, p)) + scattered->at(p);
+            } else {
+                const OctaveLight light = octaveLight(density, p, phases);
+                source = sunRadiance * light.sunShare + skyRadiance * light.skyShare;
+            }
             segment.radiance += opacity * mAlbedo * source;
             opacitySum += opacity;
             weightedDistance += opacity * (t + jitter * dt);

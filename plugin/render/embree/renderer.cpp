@@ -75,14 +75,19 @@ Vec3d groundRadianceBelow(const FrameToRender& f)
 }
 
 /// IntegratorKind::Fast: surfaces lit directly by the sun and the sky; the
-/// cloud ray-marched in front of them (CloudVolume). A surface's noise is drawn
-/// once per pixel (at its first sample on that surface); its geometry, light
-/// and shadows at every sample.
+/// cloud ray-marched in front of them (CloudVolume), its light scattered
+/// more than once by octaves or from the frame's lattice of paths
+/// (traceScatteredLight). A surface's noise is drawn once per pixel (at its
+/// first sample on that surface); its geometry, light and shadows at every
+/// sample.
 RenderImage renderFast(const FrameToRender& f)
 {
     const RenderSettings& s = *f.settings;
     const Vec3d sunRadiance = s.sun.color * s.sun.intensity;
     const Vec3d skyAmbient = cloudAmbientRadiance(s.sky, groundRadianceBelow(f));
+    const bool tracedLight =
+        f.volume && !f.volume->empty() && s.integrator.multipleScattering.method == MultipleScatteringMethod::Paths;
+    const ScatteredLightGrid scattered = tracedLight ? traceScatteredLight(f) : ScatteredLightGrid();
 
     return renderCameraSamples(f, [&] {
         struct PixelNoise {
@@ -106,8 +111,9 @@ RenderImage renderFast(const FrameToRender& f)
                           : Vec3d(0.0);
             seen.alpha = isSurface || drawSky ? 1.0 : 0.0;
             if (f.volume) {
-                const CloudVolume::Segment cloud = f.volume->march(f.camera.position(), dir, 0.0, isSurface ? hit.distance : 1e30,
-                                                                   random.next(), sunRadiance, skyAmbient);
+                const CloudVolume::Segment cloud =
+                    f.volume->march(f.camera.position(), dir, 0.0, isSurface ? hit.distance : 1e30, random.next(), sunRadiance,
+                                    skyAmbient, tracedLight ? &scattered : nullptr);
                 seen.radiance = throughHaze(s.sky, cloud.radiance, cloud.distance, 1.0 - cloud.transmittance) +
                                 seen.radiance * cloud.transmittance;
                 seen.alpha = 1.0 - (1.0 - seen.alpha) * cloud.transmittance;

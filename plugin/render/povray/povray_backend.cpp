@@ -44,7 +44,7 @@ std::vector<std::string> PovrayBackend::cannotDraw(const RenderSettings& s) cons
     if (s.medium.backWeight > 0.0)
         lines.push_back(
             "povray cannot draw the phase's backward lobe (render.backWeight): it scatters with the forward lobe only");
-    if (s.integrator.multipleScattering.octaves > 1)
+    if (s.integrator.multipleScattering.octaves > 1 || s.integrator.multipleScattering.method == MultipleScatteringMethod::Paths)
         lines.push_back("povray cannot draw light scattered more than once (render.multipleScattering): its media scatter once");
     if (s.integrator.kind == IntegratorKind::Reference)
         lines.push_back(

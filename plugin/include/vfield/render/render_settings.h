@@ -177,18 +177,34 @@ struct MediumSettings {
 /// (scenes/features/cumulus.json) lit from behind the camera, the side and
 /// the front within 10%, where a = 0.8 and c = 0.5 gave 0.55 to 0.96 of the
 /// reference once its single scattering was exact.
+///
+/// Octaves place the light only on average: in a thick cloud the light that
+/// enters, scatters many times and comes back out elsewhere is not where they
+/// put it. `paths` computes it instead, once per frame, with the reference
+/// path tracer's own estimator on a lattice over the cloud (path_tracer.h).
+enum class MultipleScatteringMethod { Octaves, Paths };
+inline constexpr EnumName<MultipleScatteringMethod> kMultipleScatteringMethodNames[] = {
+    {MultipleScatteringMethod::Octaves, "octaves"}, {MultipleScatteringMethod::Paths, "paths"}};
+constexpr const auto& enumNames(MultipleScatteringMethod) { return kMultipleScatteringMethodNames; }
+
 struct MultipleScattering {
+    MultipleScatteringMethod method = MultipleScatteringMethod::Octaves;
     int octaves = 4;                   ///< (1..8)
     double scatteringFalloff = 0.9;    ///< a, for the sun (0..1)
     double extinctionFalloff = 0.3;    ///< b (0..1)
     double eccentricityFalloff = 0.25; ///< c (0..1)
     double skyScatteringFalloff = 0.5; ///< a for the light of the sky and the ground, diffuse already (0..1)
+    double pathSpacing = 3.0;          ///< paths: lattice spacing, density voxels (1..64)
+    int pathsPerPoint = 32;            ///< paths: reference paths traced from each lattice point in the cloud (1..4096)
 
     void validate() const;
 
     template<typename Self, typename Visitor>
     static void visitFields(Self& self, Visitor& visit)
     {
+        visit(field("method", self.method)
+                  .doc("octaves: the fast approximation below; paths: the reference path tracer's estimate of the light "
+                       "scattered more than once, on a lattice over the cloud, once per frame"));
         visit(field("octaves", self.octaves).range(1, 8).doc("octave 0 is single scattering; 1: single scattering only"));
         visit(field("scatteringFalloff", self.scatteringFalloff)
                   .range(0, 1)
@@ -200,6 +216,13 @@ struct MultipleScattering {
         visit(field("skyScatteringFalloff", self.skyScatteringFalloff)
                   .range(0, 1)
                   .doc("a for the light of the sky and the ground"));
+        visit(field("pathSpacing", self.pathSpacing)
+                  .range(1, 64)
+                  .unit("density voxels")
+                  .doc("paths: the lattice's spacing; coarser is faster and darker where the cloud's lit surface curves"));
+        visit(field("pathsPerPoint", self.pathsPerPoint)
+                  .range(1, 4096)
+                  .doc("paths: reference paths traced from each lattice point in the cloud"));
     }
 };
 
@@ -244,8 +267,8 @@ struct IntegratorSettings {
         visit(field("volumeStep", self.volumeStep).range(1e-6, 1e9).unit("world units").doc("fast integrator: ray-march step"));
         visit(field("skipEmptySpace", self.skipEmptySpace).doc("march only through OpenVDB nodes holding density"));
         visit(field("multipleScattering", self.multipleScattering)
-                  .doc("the fast integrator's light scattered many times, in octaves (Wrenninge, Production Volume Rendering, "
-                       "2017)"));
+                  .doc("the fast integrator's light scattered many times: in octaves (Wrenninge, Production Volume "
+                       "Rendering, 2017), or traced by the reference's paths once per frame"));
     }
 };
 

@@ -6,16 +6,30 @@
 /// medium's two-lobe phase function and the sky's light reaching each sample
 /// through the cloud above it, both in octaves of multiple scattering
 /// (MultipleScattering): light scattered many times brightens the cloud's
-/// shadowed side and softens its shadow on the ground.
+/// shadowed side and softens its shadow on the ground. Or, for the light
+/// scattered more than once, a frame's lattice traced by the reference's
+/// paths (ScatteredLightGrid).
 /// With IntegratorSettings::skipEmptySpace, rays march only through the
 /// OpenVDB nodes that hold density (tools::VolumeRayIntersector).
 
+#include <vfield/core/trilinear_sampler.h>
 #include <vfield/render/cloud_lighting.h>
 
+#include <array>
 #include <memory>
 #include <vector>
 
 namespace vfield {
+
+/// The light that leaves points of a lattice over the cloud after they
+/// scatter it: what a path that scatters at a point carries back from the
+/// rest of its way (the point's own albedo and the sun's direct light there
+/// left out), in RGB, read trilinearly. Estimated per frame by the
+/// reference's paths (path_tracer.h), read by the fast integrator's march.
+struct ScatteredLightGrid {
+    std::array<DenseGrid, 3> rgb;
+    Vec3d at(const Vec3d& p) const { return Vec3d(rgb[0].at(p), rgb[1].at(p), rgb[2].at(p)); }
+};
 
 class CloudVolume {
 public:
@@ -38,11 +52,36 @@ public:
     };
     /// Integrates origin + t dir (dir unit) for t in [tMin, tMax) in steps of
     /// volumeStep, each sampled at jitter (in [0, 1)) of its length.
-    /// sunRadiance and skyRadiance light it.
+    /// sunRadiance and skyRadiance light it, and the octaves give back what
+    /// the cloud scatters more than once; with `scattered`, only the sun's
+    /// single scattering is marched and the rest of the light read from it.
     Segment march(const Vec3d& origin, const Vec3d& dir, double tMin, double tMax, double jitter, const Vec3d& sunRadiance,
-                  const Vec3d& skyRadiance) const;
+                  const Vec3d& skyRadiance, const ScatteredLightGrid* scattered = nullptr) const;
+
+    /// A reader of the density, for one thread.
+    using Density = TrilinearSampler<openvdb::FloatTree>;
+    /// The sun's transmittance through the cloud from p, as the march takes
+    /// it for single scattering: through the density near p, from the light
+    /// grid beyond. Surfaces in the way are not counted.
+    float sunThroughCloud(Density& density, const Vec3d& p) const;
 
 private:
+    using OctavePhases = std::array<double, 8>; ///< MultipleScattering::octaves is at most 8
+    /// The phase of each octave for light leaving along -dir.
+    OctavePhases octavePhases(const Vec3d& dir) const;
+    /// The light's transmittance from p towards a light: marched through the
+    /// density near p, then read from gridBeyond(q).
+    template<typename GridBeyond>
+    float lightThrough(Density& density, const Vec3d& p, const Vec3d& towards, const GridBeyond& gridBeyond) const;
+    /// The sun's share that reaches p: through the cloud, not blocked by a surface.
+    float sunThrough(Density& density, const Vec3d& p) const;
+    /// A sample's light as the octaves give it, in units of the sun's and the sky's radiance.
+    struct OctaveLight {
+        double sunShare = 0.0; ///< all octaves of the sun, single scattering included, their phases applied
+        double skyShare = 0.0; ///< the sky's
+    };
+    OctaveLight octaveLight(Density& density, const Vec3d& p, const OctavePhases& phases) const;
+
     const CloudLighting& mLighting;
     struct EmptySpaceSkipper;                    ///< OpenVDB's VolumeRayIntersector, one copy per thread
     std::shared_ptr<EmptySpaceSkipper> mSkipper; ///< null: march the whole box

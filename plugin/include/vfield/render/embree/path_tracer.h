@@ -5,9 +5,10 @@
 /// surfaces with the same materials, the cloud's OpenVDB density (read
 /// trilinearly, sigma_t = extinction x density), the same sun, sky and haze.
 ///
-/// - Free paths through the cloud by delta tracking under one majorant
-///   (extinction x the grid's largest density); transmittance towards the sun
-///   by ratio tracking (with Russian roulette once it is small).
+/// - Free paths through the cloud by delta tracking, cell by cell of a grid
+///   of majorants (the largest extinction a read can give in each cell, as
+///   pbrt-v4's), empty cells skipped; transmittance towards the sun by ratio
+///   tracking under the same bounds (with Russian roulette once it is small).
 /// - At a collision the path scatters with probability albedo (its weight
 ///   scaled by it), in a direction drawn from the two-lobe phase function.
 /// - Surfaces are Lambertian; directions drawn by the cosine.
@@ -23,5 +24,15 @@
 namespace vfield {
 
 RenderImage renderReference(const FrameToRender& frame);
+
+/// For the fast integrator (MultipleScatteringMethod::Paths): at the points
+/// of a lattice over the cloud's box (MultipleScattering::pathSpacing apart)
+/// whose cells hold density and that the camera sees, the reference's
+/// estimate of the light a camera ray scattering there receives from all but
+/// the sun's direct light: multiply scattered sunlight, the sky and the
+/// lit ground, over MultipleScattering::pathsPerPoint paths that leave each
+/// point in directions drawn from the phase function about the camera's ray
+/// through it. frame.volume must be non-empty.
+ScatteredLightGrid traceScatteredLight(const FrameToRender& frame);
 
 } // namespace vfield
