@@ -532,6 +532,22 @@ TEST_CASE("cli: compare follows idiff's thresholds and exits 0 pass, 1 fail, 2 e
     CHECK(warned.exitCode == 0);
     CHECK(warned.out.find("WARNING") != std::string::npos);
 
+    // --cloud: the cloud's light in a against b, over the pixels a lights
+    // above the frame without it (black here): one whole 8x8 block.
+    OIIO::ImageBuf black(OIIO::ImageSpec(10, 10, 3, OIIO::TypeDesc::FLOAT));
+    OIIO::ImageBufAlgo::zero(black);
+    REQUIRE(black.write(dir + "/clear.exr"));
+    const std::string light = dir + "/a.exr " + dir + "/b.exr --cloud " + dir + "/clear.exr";
+    const Run agrees = compare(light);
+    CHECK(agrees.exitCode == 0);
+    CHECK(agrees.out.find("100 cloud pixels") != std::string::npos);
+    CHECK(agrees.out.find("1 of 1 blocks of 8x8 pixels within 0.15") != std::string::npos);
+    CHECK(compare(light + " --mean-tolerance 0").exitCode == 1);
+    const Run png = compare(dir + "/a.png " + dir + "/b.exr --cloud " + dir + "/clear.exr");
+    CHECK(png.exitCode == 2);
+    CHECK(png.err.find(dir + "/a.png: light is compared on linear radiance") != std::string::npos);
+    CHECK(lineCount(png.err) == 1);
+
     const Run missing = compare(dir + "/a.exr " + dir + "/none.exr");
     CHECK(missing.exitCode == 2);
     CHECK(missing.err.rfind("vfield compare: " + dir + "/none.exr: cannot read the image", 0) == 0);

@@ -1,8 +1,10 @@
-// vfield compare A B: images as idiff compares them, or OpenVDB files voxel by voxel.
+// vfield compare A B: images as idiff compares them, or OpenVDB files voxel by
+// voxel, or (--cloud) a cloud's light in a render against a reference.
 
 #include "command.h"
 
 #include <vfield/core/error.h>
+#include <vfield/image/cloud_light.h>
 #include <vfield/image/grid_compare.h>
 #include <vfield/image/image_compare.h>
 
@@ -33,6 +35,21 @@ int reportImages(const std::string& a, const std::string& b, const ImageCompareO
     return c.verdict == CompareVerdict::Fail ? 1 : 0;
 }
 
+/// Prints the cloud's light in `a` against `b`; returns the exit status.
+int reportCloudLight(const std::string& a, const std::string& b, const std::string& clear, const CloudLightOptions& options)
+{
+    const CloudLightComparison c = compareCloudLight(a, b, clear, options);
+    std::printf("Comparing the cloud's light in \"%s\" with \"%s\" (without the cloud: \"%s\")\n", a.c_str(), b.c_str(),
+                clear.c_str());
+    std::printf("  %lld cloud pixels, mean radiance %.6g against %.6g: %.4f (within %g: %s)\n", c.pixels, c.mean, c.referenceMean,
+                c.ratio(), options.meanTolerance, c.meansAgree(options) ? "yes" : "no");
+    std::printf("  %lld of %lld blocks of %dx%d pixels within %g (%.1f%%, at least %.1f%% wanted)\n", c.blocksWithin, c.blocks,
+                options.block, options.block, options.blockTolerance, 100.0 * c.shareWithin(), 100.0 * options.blockShare);
+    const bool agrees = c.agrees(options);
+    std::printf("%s\n", agrees ? "PASS" : "FAILURE");
+    return agrees ? 0 : 1;
+}
+
 int reportGrids(const std::string& a, const std::string& b, double tolerance)
 {
     const GridComparison c = compareGridFiles(a, b, tolerance);
@@ -58,12 +75,14 @@ Runner registerCompare(CLI::App& app, const GlobalOptions&)
     struct Options {
         std::string a, b;
         ImageCompareOptions image;
+        std::string clear; ///< --cloud: the frame without the cloud
+        CloudLightOptions light;
         double tolerance = 0.0;
     };
     auto o = std::make_shared<Options>();
     CLI::App* command = app.add_subcommand(
-        "compare", "Compare two images as OIIO's idiff does, or two OpenVDB files voxel by voxel. Exit 0: pass (or "
-                   "warning), 1: fail, 2: error");
+        "compare", "Compare two images as OIIO's idiff does, or two OpenVDB files voxel by voxel, or (--cloud) the "
+                   "cloud's light in a render against a reference. Exit 0: pass (or warning), 1: fail, 2: error");
     command->add_option("a", o->a, "First image or .vdb file")->required();
     command->add_option("b", o->b, "Second image or .vdb file")->required();
     command->add_option("--fail", o->image.failThreshold, "Images: a pixel fails when a channel differs by more")
@@ -82,12 +101,29 @@ Runner registerCompare(CLI::App& app, const GlobalOptions&)
     command->add_option("--tolerance", o->tolerance, "VDB files: largest difference of equal voxels")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
+    command->add_option("--cloud", o->clear,
+                        "Light: compare the cloud's light in A (a render) with B (a reference, e.g. --integrator "
+                        "reference), both OpenEXR; this is the same frame rendered without the cloud (--set "
+                        "/render/extinction=0), which tells the cloud's pixels");
+    command->add_option("--block", o->light.block, "Light: side of the blocks compared, pixels")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    command->add_option("--block-tolerance", o->light.blockTolerance, "Light: relative difference a block may have")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    command->add_option("--mean-tolerance", o->light.meanTolerance, "Light: relative difference the means may have")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    command->add_option("--block-share", o->light.blockShare, "Light: share of the whole blocks that must agree")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
 
     return [o] {
         int status = 0;
         try {
             if (isVdb(o->a) != isVdb(o->b)) throw Error("cannot compare an OpenVDB file with an image");
-            status = isVdb(o->a) ? reportGrids(o->a, o->b, o->tolerance) : reportImages(o->a, o->b, o->image);
+            if (!o->clear.empty()) status = reportCloudLight(o->a, o->b, o->clear, o->light);
+            else status = isVdb(o->a) ? reportGrids(o->a, o->b, o->tolerance) : reportImages(o->a, o->b, o->image);
         } catch (const std::exception& e) {
             std::fflush(stdout);
             throw CommandExit{2, e.what()};
