@@ -18,17 +18,6 @@ constexpr double kLightGridResolution = 64.0;
 /// large box gets coarser shadows rather than a frame's memory.
 constexpr std::size_t kMaxDepthDensityPoints = std::size_t(1) << 23, kMaxSunDepthPoints = std::size_t(1) << 22;
 
-/// Points of a lattice every `cell` over a box of these extents, corners included.
-std::array<int, 3> latticePoints(const Vec3d& extent, double cell)
-{
-    return {int(std::ceil(extent[0] / cell)) + 1, int(std::ceil(extent[1] / cell)) + 1, int(std::ceil(extent[2] / cell)) + 1};
-}
-
-std::size_t pointCount(const std::array<int, 3>& points)
-{
-    return std::size_t(points[0]) * std::size_t(points[1]) * std::size_t(points[2]);
-}
-
 /// The density box-filtered onto cells of a whole number of its voxels from
 /// `corner` (the lower corner of voxel `first`), values at the cells' centres:
 /// all that a light grid of that resolution can resolve, in a plain array, so
@@ -103,7 +92,7 @@ CloudLighting::CloudLighting(openvdb::FloatGrid::ConstPtr density, const MediumS
     // Shadows on surfaces from a density as fine as fits, in cells of two voxels at best.
     int depthVoxelsPerCell = 2;
     while (depthVoxelsPerCell < voxelsPerCell &&
-           pointCount(latticePoints(extent, depthVoxelsPerCell * voxel)) > kMaxDepthDensityPoints)
+           latticeSize(latticePoints(extent, depthVoxelsPerCell * voxel)) > kMaxDepthDensityPoints)
         ++depthVoxelsPerCell;
     mSunDepth = depthVoxelsPerCell == voxelsPerCell
                     ? sunDepthTowardsSun(coarse)
@@ -145,7 +134,7 @@ CloudLighting::SunDepth CloudLighting::sunDepthTowardsSun(const DenseGrid& densi
     for (;; across *= 1.25, along *= 1.25) {
         points = {int(std::ceil((hi[0] - lo[0]) / across)) + 1, int(std::ceil((hi[1] - lo[1]) / across)) + 1,
                   int(std::ceil((hi[2] - lo[2]) / along)) + 1};
-        if (pointCount(points) <= kMaxSunDepthPoints) break;
+        if (latticeSize(points) <= kMaxSunDepthPoints) break;
     }
     map.inverseAcross = 1.0 / across;
     map.inverseAlong = 1.0 / along;

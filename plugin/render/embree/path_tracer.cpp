@@ -53,9 +53,9 @@ public:
         const double voxel = density.voxelSize()[0];
         for (mCell = kMajorantVoxels * voxel;; mCell *= 2.0) {
             for (int axis = 0; axis < 3; ++axis) mCells[axis] = std::max(1, int(std::ceil(box.extents()[axis] / mCell)));
-            if (std::size_t(mCells[0]) * std::size_t(mCells[1]) * std::size_t(mCells[2]) <= kMaxMajorantCells) break;
+            if (latticeSize(mCells) <= kMaxMajorantCells) break;
         }
-        mMajorant.assign(std::size_t(mCells[0]) * std::size_t(mCells[1]) * std::size_t(mCells[2]), 0.0f);
+        mMajorant.assign(latticeSize(mCells), 0.0f);
         // A value (a voxel, or a tile's voxels) reaches reads within a voxel of it.
         for (auto value = density.cbeginValueOn(); value; ++value) {
             if (*value <= 0.0f) continue;
@@ -329,12 +329,9 @@ ScatteredLightGrid traceScatteredLight(const FrameToRender& f)
     const MultipleScattering& settings = f.settings->integrator.multipleScattering;
     const BBoxd& box = lighting.bounds();
     const Vec3d extent = box.extents();
-    std::array<int, 3> points;
     double spacing = settings.pathSpacing * lighting.density().voxelSize()[0];
-    for (;; spacing *= 1.25) { // coarser where the lattice would exceed its budget
-        for (int axis = 0; axis < 3; ++axis) points[axis] = int(std::ceil(extent[axis] / spacing)) + 1;
-        if (std::size_t(points[0]) * std::size_t(points[1]) * std::size_t(points[2]) <= kMaxLatticePoints) break;
-    }
+    while (latticeSize(latticePoints(extent, spacing)) > kMaxLatticePoints) spacing *= 1.25; // coarser, within budget
+    const std::array<int, 3> points = latticePoints(extent, spacing);
     ScatteredLightGrid grid;
     for (DenseGrid& channel : grid.rgb) channel = DenseGrid(box.min(), spacing, points, 0.0f, 0.0f);
     const DenseGrid& lattice = grid.rgb[0];

@@ -14,13 +14,26 @@
 
 namespace vfield {
 
+/// Points of a lattice every `spacing` over a box of these extents, corners included.
+inline std::array<int, 3> latticePoints(const Vec3d& extent, double spacing)
+{
+    return {int(std::ceil(extent[0] / spacing)) + 1, int(std::ceil(extent[1] / spacing)) + 1,
+            int(std::ceil(extent[2] / spacing)) + 1};
+}
+
+/// How many values a lattice (or grid of cells) of these counts along x, y and z holds.
+inline std::size_t latticeSize(const std::array<int, 3>& counts)
+{
+    return std::size_t(counts[0]) * std::size_t(counts[1]) * std::size_t(counts[2]);
+}
+
 class DenseGrid {
 public:
     DenseGrid() = default;
     /// All points set to `fill`; reads beyond the lattice give `outside`.
     DenseGrid(const Vec3d& origin, double spacing, const std::array<int, 3>& points, float fill, float outside)
-        : mOrigin(origin), mInverseSpacing(1.0 / spacing), mSpacing(spacing), mPoints(points),
-          mValues(std::size_t(points[0]) * std::size_t(points[1]) * std::size_t(points[2]), fill), mOutside(outside)
+        : mOrigin(origin), mInverseSpacing(1.0 / spacing), mSpacing(spacing), mPoints(points), mValues(latticeSize(points), fill),
+          mOutside(outside)
     {}
 
     const Vec3d& origin() const { return mOrigin; }
