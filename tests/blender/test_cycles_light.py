@@ -1,0 +1,145 @@
+"""vfield's reference path tracer against Blender Cycles on the main job's
+cloud alone (scenes/cloud_bank.json at its first frame, terrain removed,
+160x90, seen from 2.6 times its largest radius, black sky, one
+Henyey-Greenstein lobe of g 0.75, albedo 0.97), front-, side- and back-lit
+(the sun 140, 90 and 30 degrees from the view), single and multiple
+scattering: the light the cloud sends to the camera (the image's mean
+radiance, the sky transparent) agrees within 1% beyond the two renders'
+noise.
+
+Cycles renders the folder as the add-on imports it (plugin/blender), with
+the settings that match vfield's reference (MATCHING_CYCLES below): no
+clamping, no denoising, a box pixel filter, a point-like sun, volume steps
+of a quarter voxel, 256 volume bounces (0 for single scattering, as vfield's
+maxBounces 1). Its noise is measured: it renders each case SEEDS times with
+other seeds, and the standard error of their mean widens the tolerance.
+
+blender -b --factory-startup --python-exit-code 1 --python test_cycles_light.py --
+    --vfield VFIELD --scene scenes/cloud_bank.json --work DIR"""
+
+import argparse
+import math
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+
+import bpy
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "plugin", "blender"))
+from vfield_blender.build import import_simulation, remove_import  # noqa: E402
+
+# The sun 140, 90 and 30 degrees from the camera's view (vfield's y-up world).
+LIGHTINGS = {"front": (0.534, 0.673, 0.512), "side": (-0.305, 0.764, 0.569), "back": (-0.977, 0.176, 0.12)}
+# vfield's maxBounces and Cycles' volume bounces for each.
+SCATTERING = {"single": (1, 0), "multiple": (1000, 256)}
+LONE_CLOUD = [
+    "--set", "/objects=[]",
+    "--set", "/sky/intensity=0",
+    "--set", "/sky/hazeDistance=0",
+    "--set", "/render/backWeight=0",
+    "--set", "/render/transparentSky=true",
+    "--set", "/camera/position=[140.28,77.82,39.3]",
+    "--set", "/camera/lookAt=[-50.2,30.2,1.2]",
+    "--set", "/render/resolution=[160,90]",
+]
+VFIELD_SAMPLES = 512
+CYCLES_SAMPLES = 128  # a render, SEEDS renders a case
+SEEDS = 4
+TOLERANCE = 0.01
+
+
+def arguments():
+    parser = argparse.ArgumentParser()
+    for name in ("--vfield", "--scene", "--work"):
+        parser.add_argument(name, required=True)
+    return parser.parse_args(sys.argv[sys.argv.index("--") + 1 :])
+
+
+def mean_radiance(path):
+    """The mean of r, g and b over the image (premultiplied: a transparent sky adds nothing)."""
+    image = bpy.data.images.load(path)
+    pixels = image.pixels[:]
+    bpy.data.images.remove(image)
+    count = len(pixels) // 4
+    return sum(sum(pixels[channel::4]) for channel in range(3)) / (3 * count)
+
+
+def matching_cycles(scene, volume_bounces, seed):
+    """What makes Cycles compute what vfield's reference does."""
+    cycles = scene.cycles
+    cycles.device = "CPU"
+    cycles.samples = CYCLES_SAMPLES
+    cycles.use_adaptive_sampling = False
+    cycles.use_denoising = False
+    cycles.seed = seed
+    cycles.volume_bounces = volume_bounces
+    cycles.max_bounces = 256
+    cycles.volume_step_rate = 0.25
+    cycles.volume_max_steps = 100000
+    cycles.sample_clamp_direct = 0.0
+    cycles.sample_clamp_indirect = 0.0
+    cycles.pixel_filter_type = "BOX"
+    cycles.filter_width = 1.0
+    for light in bpy.data.lights:
+        if light.type == "SUN":
+            light.angle = 0.0  # vfield's sun is a direction
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.image_settings.color_depth = "32"
+
+
+def cycles_means(sim, volume_bounces, work):
+    """Cycles' mean radiance of the imported frame, once per seed."""
+    scene = bpy.context.scene
+    import_simulation(bpy.context, sim)
+    scene.frame_set(1)
+    means = []
+    for seed in range(1, SEEDS + 1):
+        matching_cycles(scene, volume_bounces, seed)
+        scene.render.filepath = os.path.join(work, f"cycles_{volume_bounces}_{seed}.exr")
+        bpy.ops.render.render(write_still=True)
+        means.append(mean_radiance(scene.render.filepath))
+    remove_import(sim)
+    return means
+
+
+def vfield_mean(args, sim, lighting, max_bounces, work):
+    """The mean radiance of vfield's reference render of the frame."""
+    out = os.path.join(work, f"vfield_{max_bounces}")
+    subprocess.run([args.vfield, "--quiet", "render", args.scene, "--sim", sim, "-o", out, "--frames", "1",
+                    "--integrator", "reference", "--spp", str(VFIELD_SAMPLES), "--format", "exr",
+                    "--set", f"/render/maxBounces={max_bounces}", *lighting], check=True)
+    return mean_radiance(os.path.join(out, "frame.0001.exr"))
+
+
+def main():
+    args = arguments()
+    shutil.rmtree(args.work, ignore_errors=True)
+    # --factory-startup's cube, lamp and camera are no part of the scene.
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    failures = []
+    for name, sun in LIGHTINGS.items():
+        work = os.path.join(args.work, name)
+        sim = os.path.join(work, "sim")
+        lighting = [*LONE_CLOUD, "--set", "/sun/direction=[%g,%g,%g]" % sun]
+        # The frame's density, and the host scene the add-on imports (camera and sun included).
+        subprocess.run([args.vfield, "--quiet", "simulate", args.scene, "-o", sim, "--frames", "1", *lighting], check=True)
+        for scattering, (max_bounces, volume_bounces) in SCATTERING.items():
+            ours = vfield_mean(args, sim, lighting, max_bounces, work)
+            cycles = cycles_means(sim, volume_bounces, work)
+            ratio = statistics.mean(cycles) / ours
+            # The standard error of Cycles' mean over its seeds; vfield's, at
+            # more samples of a path tracer with less variance, is smaller.
+            error = statistics.stdev(cycles) / math.sqrt(SEEDS) / ours if SEEDS > 1 else 0.0
+            allowed = TOLERANCE + 3.0 * error
+            verdict = "ok" if abs(ratio - 1.0) <= allowed else "FAILS"
+            print(f"{name}-lit, {scattering} scattering: Cycles {ratio:.4f} of vfield's reference "
+                  f"(Cycles' standard error {error:.4f}; allowed {allowed:.4f}) {verdict}")
+            if verdict != "ok":
+                failures.append(f"{name} {scattering}: {ratio:.4f}")
+    assert not failures, f"Cycles and vfield's reference disagree: {failures}"
+
+
+main()
