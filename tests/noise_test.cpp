@@ -2,6 +2,10 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
 #include <random>
 
 using namespace vfield;
@@ -90,4 +94,92 @@ TEST_CASE("noise: billow is |noise| summed over octaves, lumps in [0, 1] with cr
     CHECK(sum / count < 0.7);
     CHECK(lowest < 0.1);
     CHECK(highest > 0.8);
+}
+
+namespace {
+
+/// fBm as a loop over the scalar noise, octave by octave: what the batched
+/// evaluation must reproduce.
+float fbmOctaveByOctave(const GradientNoise& noise, const Vec3f& p, const FractalOptions& options)
+{
+    float sum = 0.0f, amplitude = 1.0f, total = 0.0f, frequency = 1.0f;
+    for (int octave = 0; octave < options.octaves; ++octave) {
+        const float shift = 17.31f * float(octave);
+        sum += amplitude * noise(p[0] * frequency + shift, p[1] * frequency - shift, p[2] * frequency + 0.5f * shift);
+        total += amplitude;
+        amplitude *= float(options.gain);
+        frequency *= float(options.lacunarity);
+    }
+    return sum / total;
+}
+
+/// billow likewise: |noise| octave by octave.
+float billowOctaveByOctave(const GradientNoise& noise, const Vec3f& p, const FractalOptions& options)
+{
+    float sum = 0.0f, amplitude = 1.0f, total = 0.0f, frequency = 1.0f;
+    for (int octave = 0; octave < options.octaves; ++octave) {
+        const float shift = 17.31f * float(octave);
+        sum += amplitude * std::abs(noise(p[0] * frequency + shift, p[1] * frequency - shift, p[2] * frequency + 0.5f * shift));
+        total += amplitude;
+        amplitude *= float(options.gain);
+        frequency *= float(options.lacunarity);
+    }
+    return std::min(1.0f, 2.0f * sum / total);
+}
+
+bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof(float)) == 0; }
+
+} // namespace
+
+TEST_CASE("noise: four values at once are the scalar noise's bit for bit, on lattice planes and below zero too", "[noise]")
+{
+    const GradientNoise noise(20171);
+    std::mt19937 random(3);
+    std::uniform_real_distribution<float> coordinate(-300.0f, 300.0f);
+    int differing = 0;
+    for (int n = 0; n < 20000; ++n) {
+        std::array<float, 4> x, y, z;
+        for (int lane = 0; lane < 4; ++lane) {
+            x[lane] = coordinate(random);
+            y[lane] = coordinate(random);
+            z[lane] = coordinate(random);
+        }
+        if (n % 4 == 0) x[0] = std::round(x[0]); // on a lattice plane: a zero there
+        if (n % 8 == 0) y[1] = -std::round(std::abs(y[1]));
+        const std::array<float, 4> lanes = noise(x, y, z);
+        for (int lane = 0; lane < 4; ++lane) differing += !sameBits(lanes[lane], noise(x[lane], y[lane], z[lane]));
+    }
+    CHECK(differing == 0);
+}
+
+TEST_CASE("noise: fBm and billow, alone or batched, are their octaves summed one by one, bit for bit", "[noise]")
+{
+    const GradientNoise noise(11);
+    std::mt19937 random(4);
+    std::uniform_real_distribution<float> coordinate(-60.0f, 60.0f);
+    int differing = 0;
+    for (int n = 0; n < 2000; ++n) {
+        FbmQuery queries[4];
+        for (int q = 0; q < 4; ++q)
+            queries[q] = {Vec3f(coordinate(random), coordinate(random), coordinate(random)),
+                          FractalOptions{1 + (n + 3 * q) % 16, 2.0, 0.5 + 0.1 * q}};
+        float batched[4];
+        fbm(noise, queries, 4, batched);
+        for (const FbmQuery& query : queries) {
+            const float expected = fbmOctaveByOctave(noise, query.point, query.options);
+            differing += !sameBits(fbm(noise, query.point, query.options), expected);
+            differing += !sameBits(batched[&query - queries], expected);
+            differing +=
+                !sameBits(billow(noise, query.point, query.options), billowOctaveByOctave(noise, query.point, query.options));
+        }
+    }
+    CHECK(differing == 0);
+    const FbmQuery tooMany[5] = {{Vec3f(0.0f), {16, 2.0, 0.5}},
+                                 {Vec3f(0.0f), {16, 2.0, 0.5}},
+                                 {Vec3f(0.0f), {16, 2.0, 0.5}},
+                                 {Vec3f(0.0f), {16, 2.0, 0.5}},
+                                 {Vec3f(0.0f), {1, 2.0, 0.5}}};
+    float values[5];
+    CHECK_THROWS_WITH(fbm(noise, tooMany, 5, values), Catch::Contains("64 at once"));
+    CHECK_THROWS_WITH(fbm(noise, Vec3f(0.0f), {17, 2.0, 0.5}), Catch::Contains("more than 16 octaves"));
 }

@@ -1,8 +1,12 @@
 #include <vfield/core/noise.h>
 
+#include <vfield/core/error.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
+#include <string>
 
 namespace vfield {
 
@@ -38,6 +42,90 @@ float gradient3(int h, float x, float y, float z)
 /// The derivative of fade.
 float fadeDerivative(float t) { return 30.0f * t * t * (t - 1.0f) * (t - 1.0f); }
 
+// Four lanes (GCC's and Clang's vector extensions: SSE2 on x86-64). Every
+// operation is the scalar code's, in its order, so each lane is bit for bit
+// the scalar value.
+using Floats4 = float __attribute__((vector_size(16)));
+using Ints4 = int32_t __attribute__((vector_size(16)));
+using Bits4 = uint32_t __attribute__((vector_size(16)));
+
+Floats4 fade(Floats4 t) { return t * t * t * (t * (t * 6.0f - 15.0f) + 10.0f); }
+Floats4 lerp(Floats4 a, Floats4 b, Floats4 t) { return a + t * (b - a); }
+
+/// floor(t), and as integers in i.
+Floats4 floor(Floats4 t, Ints4& i)
+{
+    i = __builtin_convertvector(t, Ints4);                 // towards zero
+    i += (Ints4)(__builtin_convertvector(i, Floats4) > t); // rounded up (t < 0): one less
+    return __builtin_convertvector(i, Floats4);
+}
+
+/// gradient3 without its table (Perlin 2002's bit form of the same
+/// directions): +-u +- v, u and v two of x, y, z by the hash's bits. The
+/// table's zero component adds a zero, which changes no sum.
+Floats4 gradient3(Ints4 h, Floats4 x, Floats4 y, Floats4 z)
+{
+    h &= 15;
+    const Ints4 uIsX = h < 8, vIsY = h < 4, vIsX = (h == 12) | (h == 14);
+    const Floats4 u = (Floats4)(((Ints4)x & uIsX) | ((Ints4)y & ~uIsX));
+    const Floats4 v = (Floats4)(((Ints4)y & vIsY) | ((Ints4)x & (vIsX & ~vIsY)) | ((Ints4)z & ~(vIsY | vIsX)));
+    const Bits4 flipU = (Bits4)(h & 1) << 31, flipV = (Bits4)(h & 2) << 30; // sign bits
+    return (Floats4)((Bits4)u ^ flipU) + (Floats4)((Bits4)v ^ flipV);
+}
+
+/// At most this many octaves a fractal sum takes (FractalOptions::octaves),
+/// and octaves of several sums evaluated together.
+constexpr int kMaxOctaves = 16;
+constexpr int kMaxBatchOctaves = 64;
+
+/// The noise of each octave of the fBm queries, as fbm samples them, one
+/// query after another in values: four lanes at a time, the last run of one
+/// octave alone.
+void octaveNoise(const GradientNoise& noise, const FbmQuery* queries, std::size_t count, float* values)
+{
+    // Three past the last: a run of four starting at any octave stays inside.
+    std::array<float, kMaxBatchOctaves + 3> x{}, y{}, z{};
+    int octaves = 0;
+    for (std::size_t q = 0; q < count; ++q) {
+        const FractalOptions& options = queries[q].options;
+        if (options.octaves > kMaxOctaves || octaves + options.octaves > kMaxBatchOctaves)
+            throw ValueError("fractal noise of more than " + std::to_string(kMaxOctaves) + " octaves, or " +
+                             std::to_string(kMaxBatchOctaves) + " at once");
+        const Vec3f& p = queries[q].point;
+        float frequency = 1.0f;
+        for (int octave = 0; octave < options.octaves; ++octave, ++octaves) {
+            // Offset each octave so that lattice zeros do not line up.
+            const float shift = 17.31f * float(octave);
+            x[octaves] = p[0] * frequency + shift;
+            y[octaves] = p[1] * frequency - shift;
+            z[octaves] = p[2] * frequency + 0.5f * shift;
+            frequency *= float(options.lacunarity);
+        }
+    }
+    int octave = 0;
+    for (; octaves - octave >= 2; octave += 4) {
+        std::array<float, 4> lx, ly, lz; // lanes past the last octave read zeros, unused
+        std::memcpy(lx.data(), &x[octave], sizeof(lx));
+        std::memcpy(ly.data(), &y[octave], sizeof(ly));
+        std::memcpy(lz.data(), &z[octave], sizeof(lz));
+        const std::array<float, 4> lanes = noise(lx, ly, lz);
+        std::copy_n(lanes.begin(), std::min(4, octaves - octave), values + octave);
+    }
+    for (; octave < octaves; ++octave) values[octave] = noise(x[octave], y[octave], z[octave]);
+}
+
+/// fbm's sum of one query's octave noise.
+float fbmSum(const float* values, const FractalOptions& options)
+{
+    float sum = 0.0f, amplitude = 1.0f, total = 0.0f;
+    for (int octave = 0; octave < options.octaves; ++octave) {
+        sum += amplitude * values[octave];
+        total += amplitude;
+        amplitude *= float(options.gain);
+    }
+    return sum / total;
+}
+
 } // namespace
 
 GradientNoise::GradientNoise(uint64_t seed)
@@ -72,6 +160,41 @@ float GradientNoise::operator()(float x, float y, float z) const
     const float x2 = lerp(gradient3(hash(aa + 1), dx, dy, dz - 1), gradient3(hash(ba + 1), dx - 1, dy, dz - 1), u);
     const float x3 = lerp(gradient3(hash(ab + 1), dx, dy - 1, dz - 1), gradient3(hash(bb + 1), dx - 1, dy - 1, dz - 1), u);
     return lerp(lerp(x0, x1, v), lerp(x2, x3, v), w);
+}
+
+std::array<float, 4> GradientNoise::operator()(const std::array<float, 4>& px, const std::array<float, 4>& py,
+                                               const std::array<float, 4>& pz) const
+{
+    Floats4 x, y, z;
+    std::memcpy(&x, px.data(), sizeof(x));
+    std::memcpy(&y, py.data(), sizeof(y));
+    std::memcpy(&z, pz.data(), sizeof(z));
+    Ints4 ix, iy, iz;
+    const Floats4 dx = x - floor(x, ix), dy = y - floor(y, iy), dz = z - floor(z, iz);
+    const Floats4 u = fade(dx), v = fade(dy), w = fade(dz);
+    // The corners' hashes, lane by lane (no gather in SSE2), as the scalar code chains them.
+    Ints4 h000, h100, h010, h110, h001, h101, h011, h111;
+    for (int lane = 0; lane < 4; ++lane) {
+        const int a = hash(ix[lane]) + iy[lane], aa = hash(a) + iz[lane], ab = hash(a + 1) + iz[lane];
+        const int b = hash(ix[lane] + 1) + iy[lane], ba = hash(b) + iz[lane], bb = hash(b + 1) + iz[lane];
+        h000[lane] = hash(aa);
+        h100[lane] = hash(ba);
+        h010[lane] = hash(ab);
+        h110[lane] = hash(bb);
+        h001[lane] = hash(aa + 1);
+        h101[lane] = hash(ba + 1);
+        h011[lane] = hash(ab + 1);
+        h111[lane] = hash(bb + 1);
+    }
+    const Floats4 dx1 = dx - 1.0f, dy1 = dy - 1.0f, dz1 = dz - 1.0f;
+    const Floats4 x0 = lerp(gradient3(h000, dx, dy, dz), gradient3(h100, dx1, dy, dz), u);
+    const Floats4 x1 = lerp(gradient3(h010, dx, dy1, dz), gradient3(h110, dx1, dy1, dz), u);
+    const Floats4 x2 = lerp(gradient3(h001, dx, dy, dz1), gradient3(h101, dx1, dy, dz1), u);
+    const Floats4 x3 = lerp(gradient3(h011, dx, dy1, dz1), gradient3(h111, dx1, dy1, dz1), u);
+    const Floats4 value = lerp(lerp(x0, x1, v), lerp(x2, x3, v), w);
+    std::array<float, 4> values;
+    std::memcpy(values.data(), &value, sizeof(value));
+    return values;
 }
 
 NoiseSample GradientNoise::sample(const Vec3f& p) const
@@ -117,16 +240,18 @@ NoiseSample GradientNoise::sample(const Vec3f& p) const
 
 float fbm(const GradientNoise& noise, const Vec3f& p, const FractalOptions& options)
 {
-    float sum = 0.0f, amplitude = 1.0f, total = 0.0f, frequency = 1.0f;
-    for (int octave = 0; octave < options.octaves; ++octave) {
-        // Offset each octave so that lattice zeros do not line up.
-        const float shift = 17.31f * float(octave);
-        sum += amplitude * noise(p[0] * frequency + shift, p[1] * frequency - shift, p[2] * frequency + 0.5f * shift);
-        total += amplitude;
-        amplitude *= float(options.gain);
-        frequency *= float(options.lacunarity);
-    }
-    return sum / total;
+    float values[kMaxOctaves];
+    const FbmQuery query{p, options};
+    octaveNoise(noise, &query, 1, values);
+    return fbmSum(values, options);
+}
+
+void fbm(const GradientNoise& noise, const FbmQuery* queries, std::size_t count, float* values)
+{
+    float octaves[kMaxBatchOctaves];
+    octaveNoise(noise, queries, count, octaves);
+    for (std::size_t q = 0, first = 0; q < count; first += std::size_t(queries[q].options.octaves), ++q)
+        values[q] = fbmSum(octaves + first, queries[q].options);
 }
 
 NoiseSample fbmSample(const GradientNoise& noise, const Vec3f& p, const FractalOptions& options)
@@ -150,13 +275,14 @@ NoiseSample fbmSample(const GradientNoise& noise, const Vec3f& p, const FractalO
 
 float billow(const GradientNoise& noise, const Vec3f& p, const FractalOptions& options)
 {
-    float sum = 0.0f, amplitude = 1.0f, total = 0.0f, frequency = 1.0f;
+    float values[kMaxOctaves];
+    const FbmQuery query{p, options};
+    octaveNoise(noise, &query, 1, values); // fbm's
+    float sum = 0.0f, amplitude = 1.0f, total = 0.0f;
     for (int octave = 0; octave < options.octaves; ++octave) {
-        const float shift = 17.31f * float(octave); // as in fbm
-        sum += amplitude * std::abs(noise(p[0] * frequency + shift, p[1] * frequency - shift, p[2] * frequency + 0.5f * shift));
+        sum += amplitude * std::abs(values[octave]);
         total += amplitude;
         amplitude *= float(options.gain);
-        frequency *= float(options.lacunarity);
     }
     // |noise| averages about a quarter and seldom passes a half: doubled, the
     // sum spans about [0, 1].

@@ -24,11 +24,6 @@ const GradientNoise& terrainNoise()
     return noise;
 }
 
-float noiseAt(const Vec3d& p, double frequency, int octaves)
-{
-    return fbm(terrainNoise(), Vec3f(p * frequency), FractalOptions{octaves, 2.0, 0.5});
-}
-
 /// The bump noise's frequency (1 / world units).
 constexpr double kBumpFrequency = 1.0 / 2.5;
 
@@ -45,9 +40,15 @@ SurfaceNoise surfaceNoise(const SurfaceMaterial& material, const Vec3d& position
     if (material.kind == SurfaceMaterial::Kind::Painted) return noise;
     noise.bumpGradient =
         Vec3d(fbmSample(terrainNoise(), Vec3f(position * kBumpFrequency), FractalOptions{2, 2.0, 0.5}).gradient) * kBumpFrequency;
-    noise.broad = noiseAt(position, 1.0 / 40.0, 3);
-    noise.fine = noiseAt(position, 1.0 / 3.0, 3);
-    noise.stone = noiseAt(position + Vec3d(0, 3.1 * position[1], 0), 1.0 / 6.0, 2);
+    // Broad and fine colour, and stone's streaks (stretched along y), in one batch.
+    const FbmQuery colours[] = {{Vec3f(position * (1.0 / 40.0)), {3, 2.0, 0.5}},
+                                {Vec3f(position * (1.0 / 3.0)), {3, 2.0, 0.5}},
+                                {Vec3f((position + Vec3d(0, 3.1 * position[1], 0)) * (1.0 / 6.0)), {2, 2.0, 0.5}}};
+    float values[3];
+    fbm(terrainNoise(), colours, 3, values);
+    noise.broad = values[0];
+    noise.fine = values[1];
+    noise.stone = values[2];
     // Detail octaves while a pixel holds two samples of their period, each
     // fading in over the octave above that limit so nothing pops as the
     // camera moves. Colour amplitudes halve per octave; each octave tilts the
