@@ -4,11 +4,10 @@ cloud alone (scenes/cloud_bank.json at its first frame, terrain removed,
 Henyey-Greenstein lobe of g 0.75, albedo 0.97), front-, side- and back-lit
 (the sun 140, 90 and 30 degrees from the view), single and multiple
 scattering: the light the cloud sends to the camera (the image's mean
-radiance, the sky transparent) agrees within 1% beyond the two renders'
-noise.
+radiance, the sky transparent) agrees within 1% beyond Cycles' noise.
 
 Cycles renders the folder as the add-on imports it (plugin/blender), with
-the settings that match vfield's reference (MATCHING_CYCLES below): no
+the settings that match vfield's reference (matching_cycles below): no
 clamping, no denoising, a box pixel filter, a point-like sun, volume steps
 of a quarter voxel, 256 volume bounces (0 for single scattering, as vfield's
 maxBounces 1). Its noise is measured: it renders each case SEEDS times with
