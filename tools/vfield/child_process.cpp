@@ -1,14 +1,13 @@
 #include "child_process.h"
 
 #include <vfield/core/error.h>
+#include <vfield/core/file_tail.h>
 
-#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
 #include <fcntl.h>
 #include <filesystem>
-#include <fstream>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <thread>
@@ -20,13 +19,7 @@ namespace vfield::cli {
 
 std::string lastLogLine(const std::string& logPath)
 {
-    std::ifstream in(logPath, std::ios::binary | std::ios::ate);
-    if (!in) return "";
-    const std::streamoff size = in.tellg();
-    const std::streamoff start = std::max<std::streamoff>(0, size - 4096);
-    in.seekg(start);
-    std::string tail(std::size_t(size - start), '\0');
-    in.read(tail.data(), size - start);
+    std::string tail = fileTail(logPath, 4096);
     while (!tail.empty() && (tail.back() == '\n' || tail.back() == '\r')) tail.pop_back();
     const std::size_t from = tail.find_last_of("\r\n");
     return from == std::string::npos ? tail : tail.substr(from + 1);

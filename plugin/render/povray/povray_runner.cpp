@@ -1,6 +1,7 @@
 #include <vfield/render/povray/povray_runner.h>
 
 #include <vfield/core/error.h>
+#include <vfield/core/file_tail.h>
 
 #include <fcntl.h>
 #include <sys/wait.h>
@@ -49,12 +50,7 @@ std::string logTail(const std::string& logPath, std::size_t lines = 4)
 /// its log reports, or -1.
 double renderedFraction(const std::string& logPath)
 {
-    std::ifstream in(logPath, std::ios::binary | std::ios::ate);
-    const std::streamoff size = in ? std::streamoff(in.tellg()) : 0;
-    const std::streamoff start = std::max<std::streamoff>(0, size - 256);
-    std::string tail(std::size_t(size - start), '\0');
-    in.seekg(start);
-    in.read(tail.data(), size - start);
+    const std::string tail = fileTail(logPath, 256);
     const std::size_t at = tail.rfind("Rendered ");
     unsigned long long done = 0, total = 0;
     if (at == std::string::npos || std::sscanf(tail.c_str() + at, "Rendered %llu of %llu", &done, &total) != 2 || total == 0)
