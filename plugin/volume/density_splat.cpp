@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <memory>
 
@@ -226,10 +227,19 @@ openvdb::FloatGrid::Ptr detailedDensity(const openvdb::FloatGrid& density, const
     double weightNorm = 0.0;
     for (const RestChannel& channel : channels) weightNorm += double(channel.weight) * double(channel.weight);
     const float inverseNorm = float(1.0 / std::sqrt(weightNorm));
-    // Billows: 2 billow - 1, lumps about [-1, 1] as fBm is.
+    // Billows: 2 billow - 1, lumps about [-1, 1] as fBm is (billow is within [0, 1]).
     const auto noiseAt = [&](const openvdb::Vec3f& p) {
         return detail.style == DetailStyle::Billows ? 2.0f * billow(noise, p, fractal) - 1.0f : fbm(noise, p, fractal);
     };
+    // Billows keep the splat's density wherever rho / edgeSoftness + amplitude
+    // g >= 0.55, whatever g: deep inside, where rho / edgeSoftness passes 0.55
+    // plus the largest amplitude |g| can reach, the noise changes nothing and
+    // is not drawn. Only the cloud's skin pays for it. (The margin covers the
+    // float rounding of g.)
+    double largestG = 0.0;
+    for (const RestChannel& channel : channels) largestG += std::abs(double(channel.weight)) * double(inverseNorm);
+    const double noiseFreeAbove = detail.style == DetailStyle::Billows ? 0.55 + double(amplitude) * largestG * (1.0 + 1e-4)
+                                                                       : std::numeric_limits<double>::infinity();
     using FineLeaf = openvdb::FloatTree::LeafNodeType;
     std::vector<std::vector<std::unique_ptr<FineLeaf>>> fineLeaves(coarseLeaves.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, coarseLeaves.size()), [&](const tbb::blocked_range<std::size_t>& range) {
@@ -239,6 +249,7 @@ openvdb::FloatGrid::Ptr detailedDensity(const openvdb::FloatGrid& density, const
         for (const auto& rest : rests) restAt.emplace_back(rest->tree());
         for (std::size_t n = range.begin(); n != range.end(); ++n) {
             std::map<openvdb::Coord, std::unique_ptr<FineLeaf>> leaves; // ordered: added to the tree in a fixed order
+            FineLeaf* current = nullptr; // the last voxel's: most voxels share their neighbour's leaf
             for (auto voxel = coarseLeaves[n]->cbeginValueOn(); voxel; ++voxel) {
                 const openvdb::Coord c = voxel.getCoord();
                 for (int i = 0; i < ratio; ++i)
@@ -249,15 +260,20 @@ openvdb::FloatGrid::Ptr detailedDensity(const openvdb::FloatGrid& density, const
                             const double rho = densityAt.atIndex(coarseIndex);
                             if (!(rho > 0.0)) continue;
                             float g = 0.0f;
-                            for (std::size_t r = 0; r < channels.size(); ++r)
-                                g += channels[r].weight * noiseAt(openvdb::Vec3f(restAt[r].atIndex(coarseIndex)) * frequency +
-                                                                  channels[r].noiseOffset);
+                            if (rho * inverseSoftness < noiseFreeAbove)
+                                for (std::size_t r = 0; r < channels.size(); ++r)
+                                    g += channels[r].weight * noiseAt(openvdb::Vec3f(restAt[r].atIndex(coarseIndex)) * frequency +
+                                                                      channels[r].noiseOffset);
                             g *= inverseNorm;
                             const double shaped = shapedDensity(detail.style, rho, amplitude * g, edgeSoftness, inverseSoftness);
                             if (!(shaped > 0.0)) continue;
-                            std::unique_ptr<FineLeaf>& leaf = leaves[f & ~int32_t(FineLeaf::DIM - 1)];
-                            if (!leaf) leaf = std::make_unique<FineLeaf>(f, 0.0f, false);
-                            leaf->setValueOn(f, float(shaped));
+                            const openvdb::Coord origin = f & ~int32_t(FineLeaf::DIM - 1);
+                            if (!current || current->origin() != origin) {
+                                std::unique_ptr<FineLeaf>& leaf = leaves[origin];
+                                if (!leaf) leaf = std::make_unique<FineLeaf>(f, 0.0f, false);
+                                current = leaf.get();
+                            }
+                            current->setValueOn(f, float(shaped));
                         }
             }
             for (auto& [origin, leaf] : leaves) fineLeaves[n].push_back(std::move(leaf));
