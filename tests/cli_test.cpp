@@ -436,7 +436,10 @@ TEST_CASE("cli: one writer per folder: a second simulate or render is refused at
                            0) == 0);
     CHECK(seconds < 10.0); // refused at once, not after a simulation
 
-    // Killed, its lock is gone with it: the next run resumes where it stopped.
+    // Killed once it has written frames (on a busy machine it may still be
+    // preparing them now), its lock is gone with it: the next run resumes where it stopped.
+    for (int wait = 0; wait < 600 && !std::filesystem::exists(dir + "/sim/density.0002.vdb"); ++wait)
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
     killAndWait(first);
     const Run third = runVfieldCli("simulate " + dir + "/s.json -o " + dir + "/sim --frames 1-12", dir);
     INFO(third.err);
