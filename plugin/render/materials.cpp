@@ -104,8 +104,17 @@ Vec3d skyDomeRadiance(const SkySettings& sky, const Vec3d& dir)
 Vec3d skyRadiance(const RenderSettings& s, const Vec3d& dir)
 {
     Vec3d sky = skyDomeRadiance(s.sky, dir);
-    const double toSun = std::max(0.0, dir.dot(s.sun.direction.unitSafe()));
-    sky += s.sun.color * (0.25 * std::pow(toSun, 64.0) + 20.0 * std::pow(toSun, 4096.0)) * s.sun.intensity;
+    // The sun's glow and disk, cos^64 and cos^4096, by squaring (pow costs
+    // more than the rest of the sky); where the glow is under a tenth, the disk
+    // is under 1e-64.
+    double glow = std::max(0.0, dir.dot(s.sun.direction.unitSafe()));
+    for (int i = 0; i < 6; ++i) glow *= glow;
+    double disk = 0.0;
+    if (glow > 1e-1) {
+        disk = glow;
+        for (int i = 0; i < 6; ++i) disk *= disk;
+    }
+    sky += s.sun.color * (0.25 * glow + 20.0 * disk) * s.sun.intensity;
     return sky;
 }
 

@@ -16,7 +16,8 @@ namespace {
 /// One Embree scene holding one mesh, with the normals to shade it.
 struct MeshBvh {
     RTCScene scene = nullptr;
-    std::vector<Vec3f> normals; ///< per point, in the mesh's own space
+    std::vector<Vec3f> normals;        ///< per point, in the mesh's own space
+    const unsigned* indices = nullptr; ///< the triangles' corners, three a triangle (Embree's buffer)
 };
 
 void checkDevice(RTCDevice device, const char* what)
@@ -42,6 +43,7 @@ MeshBvh buildBvh(RTCDevice device, const TriangleMesh& mesh, RTCBuildQuality qua
         for (int k = 0; k < 3; ++k) vertices[3 * i + k] = mesh.points[i][k];
     for (std::size_t t = 0; t < mesh.triangleCount(); ++t)
         for (int k = 0; k < 3; ++k) indices[3 * t + k] = mesh.triangles[t][k];
+    bvh.indices = indices;
     rtcCommitGeometry(geometry);
     rtcAttachGeometryByID(bvh.scene, geometry, 0);
     rtcReleaseGeometry(geometry);
@@ -179,9 +181,7 @@ bool SurfaceScene::intersect(const Vec3d& origin, const Vec3d& dir, double tMin,
     const MeshBvh& bvh = instance == 0 ? mImpl->staticBvh : mImpl->dynamics[instance - 1].bvh;
     const Transform* pose = instance == 0 ? nullptr : &mImpl->dynamics[instance - 1].pose;
     // Smooth normal from the corners' normals (object space), then into the world.
-    RTCGeometry geometry = rtcGetGeometry(bvh.scene, 0);
-    const auto* index =
-        static_cast<const unsigned*>(rtcGetGeometryBufferData(geometry, RTC_BUFFER_TYPE_INDEX, 0)) + 3 * rh.hit.primID;
+    const unsigned* index = bvh.indices + 3 * std::size_t(rh.hit.primID);
     const double u = rh.hit.u, v = rh.hit.v;
     Vec3d shading =
         Vec3d(bvh.normals[index[0]]) * (1 - u - v) + Vec3d(bvh.normals[index[1]]) * u + Vec3d(bvh.normals[index[2]]) * v;

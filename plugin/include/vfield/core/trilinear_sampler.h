@@ -7,7 +7,11 @@
 /// straight from the leaf's buffer whenever the 2 x 2 x 2 corners lie in one
 /// leaf (343 of a leaf's 512 cells), and keeps that leaf for the next read.
 ///
-/// Holds its own accessor: one sampler per thread, like an accessor.
+/// Holds its own accessor: one sampler per thread, like an accessor. The
+/// accessor is not registered with the tree (OpenVDB's IsSafe = false): the
+/// tree must not change while the sampler reads it, and a sampler costs
+/// nothing to make, so one per ray or per task is free (a registered one
+/// takes a lock on the tree's shared table of accessors, made and dropped).
 
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Interpolation.h>
@@ -66,7 +70,7 @@ public:
 private:
     using LeafT = typename TreeT::LeafNodeType;
 
-    openvdb::tree::ValueAccessor<const TreeT> mAccessor;
+    openvdb::tree::ValueAccessor<const TreeT, /*IsSafe=*/false> mAccessor;
     const LeafT* mLeaf = nullptr;
     openvdb::Coord mLeafOrigin{std::numeric_limits<openvdb::Int32>::max()}; ///< of mLeaf; none read yet
 };
