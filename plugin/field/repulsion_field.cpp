@@ -2,6 +2,7 @@
 
 #include <vfield/core/error.h>
 #include <vfield/core/field_visitors.h>
+#include <vfield/core/stopwatch.h>
 #include <vfield/field/field_grid.h>
 
 #include <openvdb/tools/FastSweeping.h>
@@ -12,7 +13,6 @@
 #include <openvdb/tree/LeafManager.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 namespace vfield {
@@ -272,15 +272,11 @@ void GridRepulsion::buildDistance(const TriangleMesh& mesh)
 /// conjugate gradient asks once per iteration, which is told about once a second.
 class IterationCounter final : public openvdb::util::NullInterrupter {
 public:
-    IterationCounter(const RepulsionField::Progress& progress, int maxIterations)
-        : mProgress(progress), mMax(maxIterations), mLastTold(std::chrono::steady_clock::now())
-    {}
+    IterationCounter(const RepulsionField::Progress& progress, int maxIterations) : mProgress(progress), mMax(maxIterations) {}
     bool wasInterrupted(int = -1) override
     {
         ++mIterations;
-        const auto now = std::chrono::steady_clock::now();
-        if (mProgress && now - mLastTold >= std::chrono::seconds(1)) {
-            mLastTold = now;
+        if (mProgress && mSinceTold.lapAfter(1.0)) {
             mProgress("potential flow: iteration " + std::to_string(mIterations) + " of at most " + std::to_string(mMax));
         }
         return false;
@@ -289,7 +285,7 @@ public:
 private:
     const RepulsionField::Progress& mProgress;
     int mMax, mIterations = 0;
-    std::chrono::steady_clock::time_point mLastTold;
+    Stopwatch mSinceTold;
 };
 
 void GridRepulsion::buildPotentialFlow(const TriangleMesh& mesh, const Vec3d& wind, const Progress& progress)

@@ -2,6 +2,7 @@
 
 #include <vfield/core/error.h>
 #include <vfield/core/file_tail.h>
+#include <vfield/core/stopwatch.h>
 
 #include <fcntl.h>
 #include <sys/wait.h>
@@ -147,17 +148,16 @@ void runPovray(const std::string& folder, const std::string& sceneFile, const st
     // every second, grown or not.
     int status = 0;
     double reported = -1.0;
-    auto lastTold = std::chrono::steady_clock::now();
+    Stopwatch sinceTold;
     for (;;) {
         const pid_t done = ::waitpid(child, &status, WNOHANG);
         if (done == child) break;
         if (done < 0 && errno != EINTR) throw Error(std::string("lost POV-Ray: ") + std::strerror(errno));
         std::this_thread::sleep_for(std::chrono::milliseconds(250));
         const double fraction = std::max(0.0, renderedFraction(logPath));
-        const auto now = std::chrono::steady_clock::now();
-        if (progress && (fraction > reported || now - lastTold >= std::chrono::seconds(1))) {
+        if (progress && (fraction > reported || sinceTold.lapAfter(1.0))) {
             progress(reported = fraction);
-            lastTold = now;
+            sinceTold.lap();
         }
     }
     const std::string scenePath = (fs::path(folder) / sceneFile).string();

@@ -1,6 +1,7 @@
 #pragma once
 /// @file stopwatch.h
-/// Wall-clock seconds since a point, for the timings a run reports.
+/// Wall-clock seconds since a point, for the timings a run reports and for
+/// progress told at most once a period.
 
 #include <chrono>
 
@@ -17,6 +18,17 @@ public:
         const double elapsed = std::chrono::duration<double>(now - mStart).count();
         mStart = now;
         return elapsed;
+    }
+
+    /// Whether at least period seconds have passed since construction or the
+    /// last restart, and if so starts again: a long job asked often (an
+    /// iteration, a tile) tells its progress only when this says so.
+    bool lapAfter(double period)
+    {
+        const Clock::time_point now = Clock::now();
+        if (std::chrono::duration<double>(now - mStart).count() < period) return false;
+        mStart = now;
+        return true;
     }
 
 private:

@@ -5,6 +5,7 @@
 /// all jittered over the pixel), each with its own counter-based random
 /// stream, averaged into premultiplied RGBA and the nearest surface's depth.
 
+#include <vfield/core/stopwatch.h>
 #include <vfield/render/embree/renderer.h>
 #include <vfield/render/embree/sample_random.h>
 
@@ -13,7 +14,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <functional>
 #include <limits>
 #include <mutex>
@@ -32,16 +32,14 @@ struct CameraSample {
 class PixelProgress {
 public:
     PixelProgress(const std::function<void(double fraction)>& report, std::size_t pixels)
-        : mReport(report), mPixels(double(pixels)), mLast(std::chrono::steady_clock::now())
+        : mReport(report), mPixels(double(pixels))
     {}
     void add(std::size_t pixels)
     {
         const std::size_t done = mDone += pixels;
         if (!mReport) return;
         const std::unique_lock<std::mutex> lock(mMutex, std::try_to_lock);
-        const auto now = std::chrono::steady_clock::now();
-        if (!lock.owns_lock() || now - mLast < std::chrono::seconds(1)) return;
-        mLast = now;
+        if (!lock.owns_lock() || !mSinceTold.lapAfter(1.0)) return;
         mReport(double(done) / mPixels);
     }
 
@@ -50,7 +48,7 @@ private:
     double mPixels;
     std::atomic<std::size_t> mDone{0};
     std::mutex mMutex;
-    std::chrono::steady_clock::time_point mLast;
+    Stopwatch mSinceTold; ///< guarded by mMutex
 };
 
 /// makeSampler() is called once per tile (so that it can hold per-thread
