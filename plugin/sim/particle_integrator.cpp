@@ -38,10 +38,10 @@ Vec3d objectPoint(const Transform& pose, const Vec3d& world)
 
 } // namespace
 
-Vec3d Simulator::uniformAcceleration(const std::vector<std::size_t>& fields, const Vec3d& p) const
+Vec3d Simulator::uniformAcceleration(const UniformFields& fields, const Vec3d& p) const
 {
-    Vec3d a(0.0);
-    for (const std::size_t f : fields) a += mSetup.fields[f].accelerationAt(p);
+    Vec3d a = fields.leadingSum;
+    for (const std::size_t f : fields.rest) a += mSetup.fields[f].accelerationAt(p);
     return a;
 }
 
@@ -233,7 +233,7 @@ void Simulator::advanceParticles(double t0, double t1)
         DragFactors drag;
         for (std::size_t p = range.begin(); p != range.end(); ++p) {
             const CloudSpec& cloud = mSetup.clouds[mParticles.cloud[p]];
-            const std::vector<std::size_t>& fields = mCloudFields[mParticles.cloud[p]];
+            const UniformFields& fields = mCloudFields[mParticles.cloud[p]];
             Vec3d x(mParticles.position[p]), v(mParticles.velocity[p]);
             double t = t0;
             uint32_t steps = 0;

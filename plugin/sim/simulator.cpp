@@ -112,12 +112,17 @@ Simulator::Simulator(const SimulationSetup& setup, const Preparing& preparing) :
 
     mObjectFields.resize(mObjects.size());
     mCloudFields.resize(mSetup.clouds.size());
+    const auto add = [this](UniformFields& fields, std::size_t f) {
+        // Summed now while every field so far acts everywhere: the sum a substep would make, in the same order.
+        if (fields.rest.empty() && !mSetup.fields[f].box) fields.leadingSum += mSetup.fields[f].acceleration;
+        else fields.rest.push_back(f);
+    };
     for (std::size_t f = 0; f < mSetup.fields.size(); ++f) {
         const UniformFieldSpec& field = mSetup.fields[f];
         for (std::size_t i = 0; i < mObjects.size(); ++i)
-            if (field.acts(mSetup.objects[i].name)) mObjectFields[i].push_back(f);
+            if (field.acts(mSetup.objects[i].name)) add(mObjectFields[i], f);
         for (std::size_t c = 0; c < mSetup.clouds.size(); ++c)
-            if (field.acts(mSetup.clouds[c].name)) mCloudFields[c].push_back(f);
+            if (field.acts(mSetup.clouds[c].name)) add(mCloudFields[c], f);
     }
 }
 

@@ -160,8 +160,15 @@ private:
     };
     FieldsAt fieldsAt(const Vec3d& p, double time, double mass, RepulsionField::Accessor* accessors, bool withForces) const;
     void advanceDynamicObjects(double t0, double t1, const std::function<void()>& afterSubstep);
-    /// The uniform fields (indices into the setup's) acting at p.
-    Vec3d uniformAcceleration(const std::vector<std::size_t>& fields, const Vec3d& p) const;
+    /// The uniform fields acting on one object or cloud (UniformFieldSpec::affects).
+    struct UniformFields {
+        /// The sum of the leading ones that act everywhere (no box), added
+        /// in the scene's order as a substep would: the same to the bit.
+        Vec3d leadingSum{0.0};
+        std::vector<std::size_t> rest; ///< the others, indices into the setup's, in order
+    };
+    /// The uniform fields' acceleration at p.
+    Vec3d uniformAcceleration(const UniformFields& fields, const Vec3d& p) const;
     void advanceParticles(double t0, double t1);
     /// Dual rest (SimulationOptions::restPeriod): resets the rest position due
     /// at the current frame and sets the blend between the two.
@@ -191,8 +198,8 @@ private:
     std::vector<uint8_t> mWorldIsObject;
     std::vector<std::size_t> mRepulsive; ///< objects with a field
     std::vector<std::size_t> mContact;   ///< objects with a closed mesh's distance (SimObject::distance)
-    /// The uniform fields acting on each object and each cloud (UniformFieldSpec::affects).
-    std::vector<std::vector<std::size_t>> mObjectFields, mCloudFields;
+    /// The uniform fields acting on each object and each cloud.
+    std::vector<UniformFields> mObjectFields, mCloudFields;
     ParticleSet mParticles;
     BBoxd mDomain;
     double mFinestCell = 0.0;
