@@ -155,7 +155,7 @@ void runPovray(const std::string& folder, const std::string& sceneFile, const st
         if (done < 0 && errno != EINTR) throw Error(std::string("lost POV-Ray: ") + std::strerror(errno));
         std::this_thread::sleep_for(std::chrono::milliseconds(250));
         const double fraction = std::max(0.0, renderedFraction(logPath));
-        if (progress && (fraction > reported || sinceTold.lapAfter(1.0))) {
+        if (progress && (fraction > reported || sinceTold.seconds() >= 1.0)) {
             progress(reported = fraction);
             sinceTold.lap();
         }
