@@ -11,8 +11,8 @@ using namespace vfield;
 namespace {
 
 /// Leaves of random values beside each other (reads across their faces), a
-/// constant tile (reads from a node without leaves) and the background
-/// around them, at negative and positive coordinates.
+/// constant tile (reads from a node without leaves) with a leaf against it,
+/// and the background around them, at negative and positive coordinates.
 template<typename GridT, typename MakeValue>
 typename GridT::Ptr patchworkGrid(MakeValue makeValue)
 {
@@ -21,7 +21,8 @@ typename GridT::Ptr patchworkGrid(MakeValue makeValue)
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
     auto accessor = grid->getAccessor();
     for (const openvdb::CoordBBox& box :
-         {openvdb::CoordBBox({-8, -8, -8}, {8, 11, 7}), openvdb::CoordBBox({20, 3, -30}, {27, 9, -25})})
+         {openvdb::CoordBBox({-8, -8, -8}, {8, 11, 7}), openvdb::CoordBBox({20, 3, -30}, {27, 9, -25}),
+          openvdb::CoordBBox({120, 2, 2}, {127, 6, 6})})
         for (auto c = box.begin(); c; ++c) accessor.setValueOn(*c, makeValue(unit(random)));
     grid->tree().addTile(/*level=*/1, openvdb::Coord(128, 0, 0), makeValue(0.75), /*active=*/true);
     return grid;
@@ -47,6 +48,21 @@ void requireSameAsBoxSampler(const GridT& grid)
             openvdb::tools::BoxSampler::sample(accessor, p, expected);
             const auto actual = sampler.atIndex(p);
             INFO("at " << p);
+            REQUIRE(actual == expected);
+        }
+    }
+    // Marches, as a ray's reads come: short steps in one direction, through
+    // each leaf's last layer into the next leaves, a tile and the background.
+    std::uniform_real_distribution<double> coordinate(-12.0, 12.0), unit(-1.0, 1.0);
+    for (int ray = 0; ray < 400; ++ray) {
+        openvdb::Vec3d p(coordinate(random), coordinate(random), coordinate(random));
+        if (ray % 4 == 3) p += openvdb::Vec3d(124, 0, 0); // around the leaf against the tile
+        const openvdb::Vec3d step = openvdb::Vec3d(unit(random), unit(random), unit(random)) * 0.3;
+        for (int n = 0; n < 100; ++n, p += step) {
+            typename GridT::ValueType expected;
+            openvdb::tools::BoxSampler::sample(accessor, p, expected);
+            const auto actual = sampler.atIndex(p);
+            INFO("along a march at " << p);
             REQUIRE(actual == expected);
         }
     }

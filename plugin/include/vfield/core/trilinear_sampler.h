@@ -2,10 +2,13 @@
 /// @file trilinear_sampler.h
 /// Trilinear reads of an OpenVDB tree at index-space points: bit for bit the
 /// values of openvdb::tools::BoxSampler, faster where reads follow each other
-/// through the same leaf (a ray march, a pass over a leaf's voxels).
-/// BoxSampler asks the accessor for each of the eight corners; this reads them
-/// straight from the leaf's buffer whenever the 2 x 2 x 2 corners lie in one
-/// leaf (343 of a leaf's 512 cells), and keeps that leaf for the next read.
+/// through the same leaves (a ray march, a pass over a leaf's voxels, a cloud
+/// of particles in spatial order). BoxSampler asks the accessor for each of
+/// the eight corners, and the accessor keeps one leaf; this reads them
+/// straight from the leaves' buffers, and keeps the leaf holding the cell's
+/// first corner and the neighbours after it along each axis that cells
+/// straddling its faces read (the cells of a leaf's last row, column and
+/// layer, 169 of its 512, take their corners from two, four or eight leaves).
 ///
 /// Holds its own accessor: one sampler per thread, like an accessor. The
 /// accessor is not registered with the tree (OpenVDB's IsSafe = false): the
@@ -32,34 +35,41 @@ public:
     {
         const openvdb::Vec3i base = openvdb::tools::local_util::floorVec3(xyz);
         const openvdb::Vec3d uvw = xyz - base;
-        const openvdb::Coord ijk(base);
+        const openvdb::Coord ijk(base), origin = ijk & ~kLast;
+        if (origin != mOrigin) {
+            mOrigin = origin;
+            mProbed = 0;
+        }
         ValueType data[2][2][2];
-        constexpr int kLast = int(LeafT::DIM) - 1;
-        if ((ijk.x() & kLast) != kLast && (ijk.y() & kLast) != kLast && (ijk.z() & kLast) != kLast) {
-            const openvdb::Coord origin = ijk & ~kLast;
-            if (origin != mLeafOrigin) {
-                mLeaf = mAccessor.probeConstLeaf(ijk);
-                mLeafOrigin = origin;
-            }
-            if (mLeaf) {
-                const ValueType* values = mLeaf->buffer().data();
+        const openvdb::Coord local = ijk - origin;
+        if (local.x() != kLast && local.y() != kLast && local.z() != kLast) {
+            const Neighbour& leaf = neighbour(0);
+            if (leaf.values) {
                 constexpr openvdb::Index kX = LeafT::DIM * LeafT::DIM, kY = LeafT::DIM;
-                const openvdb::Index n = LeafT::coordToOffset(ijk);
-                data[0][0][0] = values[n];
-                data[0][0][1] = values[n + 1];
-                data[0][1][0] = values[n + kY];
-                data[0][1][1] = values[n + kY + 1];
-                data[1][0][0] = values[n + kX];
-                data[1][0][1] = values[n + kX + 1];
-                data[1][1][0] = values[n + kX + kY];
-                data[1][1][1] = values[n + kX + kY + 1];
+                const ValueType* values = leaf.values + LeafT::coordToOffset(ijk);
+                data[0][0][0] = values[0];
+                data[0][0][1] = values[1];
+                data[0][1][0] = values[kY];
+                data[0][1][1] = values[kY + 1];
+                data[1][0][0] = values[kX];
+                data[1][0][1] = values[kX + 1];
+                data[1][1][0] = values[kX + kY];
+                data[1][1][1] = values[kX + kY + 1];
             } else { // a tile or the background: one value over the whole leaf's box
-                const ValueType value = mAccessor.getValue(ijk);
                 for (auto& plane : data)
-                    for (auto& row : plane) row[0] = row[1] = value;
+                    for (auto& row : plane) row[0] = row[1] = leaf.tile;
             }
         } else {
-            openvdb::tools::BoxSampler::getValues(data, mAccessor, ijk);
+            for (int i = 0; i < 2; ++i)
+                for (int j = 0; j < 2; ++j)
+                    for (int k = 0; k < 2; ++k) {
+                        const openvdb::Coord corner = ijk.offsetBy(i, j, k);
+                        // Past the last voxel along an axis: the next leaf along it.
+                        const int slot =
+                            (local.x() + i > kLast ? 4 : 0) | (local.y() + j > kLast ? 2 : 0) | (local.z() + k > kLast ? 1 : 0);
+                        const Neighbour& leaf = neighbour(slot);
+                        data[i][j][k] = leaf.values ? leaf.values[LeafT::coordToOffset(corner)] : leaf.tile;
+                    }
         }
         return openvdb::tools::BoxSampler::trilinearInterpolation(data, uvw);
     }
@@ -69,10 +79,34 @@ public:
 
 private:
     using LeafT = typename TreeT::LeafNodeType;
+    static constexpr int kLast = int(LeafT::DIM) - 1; ///< a leaf's last voxel along an axis, from its origin
+
+    /// A leaf's values, or where it has none, the one value over its box (a tile's or the background).
+    struct Neighbour {
+        const ValueType* values = nullptr;
+        ValueType tile{};
+    };
+
+    /// The leaf at mOrigin offset by a leaf along x, y and z as slot's bits
+    /// 4, 2 and 1 say, probed at its first use since mOrigin changed.
+    const Neighbour& neighbour(int slot)
+    {
+        Neighbour& n = mNeighbours[slot];
+        if (!(mProbed & (1u << slot))) {
+            constexpr int dim = int(LeafT::DIM);
+            const openvdb::Coord at = mOrigin.offsetBy(slot & 4 ? dim : 0, slot & 2 ? dim : 0, slot & 1 ? dim : 0);
+            const LeafT* leaf = mAccessor.probeConstLeaf(at);
+            n.values = leaf ? leaf->buffer().data() : nullptr;
+            if (!leaf) n.tile = mAccessor.getValue(at);
+            mProbed |= 1u << slot;
+        }
+        return n;
+    }
 
     openvdb::tree::ValueAccessor<const TreeT, /*IsSafe=*/false> mAccessor;
-    const LeafT* mLeaf = nullptr;
-    openvdb::Coord mLeafOrigin{std::numeric_limits<openvdb::Int32>::max()}; ///< of mLeaf; none read yet
+    openvdb::Coord mOrigin{std::numeric_limits<openvdb::Int32>::max()}; ///< of the leaf in slot 0; none read yet
+    Neighbour mNeighbours[8];
+    unsigned mProbed = 0; ///< bit `slot`: mNeighbours[slot] is probed
 };
 
 } // namespace vfield
