@@ -349,8 +349,9 @@ TEST_CASE("repulsion field: a point's level cell holds only points of its level"
         int cells = 0;
         for (int i = 0; i < 2000; ++i) {
             const Vec3d p = bounds.min() + Vec3d(unit(random), unit(random), unit(random)) * bounds.extents();
-            const int level = field->sample(accessor, p).level;
-            const BBoxd cell = field->levelCell(p, level);
+            const RepulsionField::Sample sample = field->sample(accessor, p);
+            const int level = sample.level;
+            const BBoxd cell = field->levelCell(p, sample);
             if (cell.min().x() > cell.max().x()) continue; // on a face: empty
             ++cells;
             INFO(enumName(method) << " point (" << p[0] << ", " << p[1] << ", " << p[2] << ") level " << level);

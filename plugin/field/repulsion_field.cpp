@@ -51,20 +51,24 @@ void RepulsionField::setSampling(FieldSampling sampling, openvdb::Vec3SGrid::Ptr
     mSampledOnLevelVoxels = mSampled->transform() == mLevel->transform();
     mSampledIndex = indexMapOf<IndexMap>(mSampled->transform());
     mLevelIndex = indexMapOf<IndexMap>(mLevel->transform());
+    mLevelVoxel = 1.0 / mLevelIndex.inverseVoxel.x();
+    // voxelizeField's default: the finest leaves' lattice, voxel 0 at the root's corner.
+    mLeavesOnLevelVoxels = mMethod == RepulsionMethod::Octree && mLevelIndex.origin == mBounds.min() + Vec3d(0.5 * mLevelVoxel);
     mCellSize.assign(std::size_t(mDepth) + 1, 0.0);
-    mInverseCellSize.assign(std::size_t(mDepth) + 1, 0.0);
     for (int level = 1; level <= mDepth; ++level) {
         mCellSize[std::size_t(level)] = structureCellSize(level);
-        mInverseCellSize[std::size_t(level)] = 1.0 / mCellSize[std::size_t(level)];
+        mLeavesOnLevelVoxels = mLeavesOnLevelVoxels && mCellSize[std::size_t(level)] == std::ldexp(mLevelVoxel, mDepth - level);
     }
 }
 
 RepulsionField::Sample RepulsionField::sample(Accessor& accessor, const Vec3d& local) const
 {
     const Vec3d index = mSampledIndex(local);
-    const int level = accessor.level.getValue(openvdb::Coord::round(mSampledOnLevelVoxels ? index : mLevelIndex(local)));
-    if (mSampling == FieldSampling::Nearest) return {Vec3d(accessor.force.valueAt(openvdb::Coord::round(index))), level};
-    return {Vec3d(accessor.force.atIndex(index)), level};
+    const openvdb::Coord levelVoxel = openvdb::Coord::round(mSampledOnLevelVoxels ? index : mLevelIndex(local));
+    const int level = accessor.level.getValue(levelVoxel);
+    if (mSampling == FieldSampling::Nearest)
+        return {Vec3d(accessor.force.valueAt(openvdb::Coord::round(index))), level, levelVoxel};
+    return {Vec3d(accessor.force.atIndex(index)), level, levelVoxel};
 }
 
 int RepulsionField::levelAt(Accessor& accessor, const Vec3d& local) const
@@ -72,29 +76,15 @@ int RepulsionField::levelAt(Accessor& accessor, const Vec3d& local) const
     return accessor.level.getValue(openvdb::Coord::round(mLevelIndex(local)));
 }
 
-BBoxd RepulsionField::levelCell(const Vec3d& local, int level) const
+BBoxd RepulsionField::levelCell(const Vec3d& local, const Sample& sample) const
 {
-    const double voxel = 1.0 / mLevelIndex.inverseVoxel.x();
-    BBoxd cell;
-    if (mMethod == RepulsionMethod::Octree && level >= 1 && level <= mDepth) {
-        // Leaves are the cubes of their level's lattice over the root, and
-        // the level grid's voxels are the finest leaves (voxelizeField's
-        // default). A cube misplaced by rounding does not hold local once shrunk.
-        const double side = cellSize(level), inverse = mInverseCellSize[std::size_t(level)];
-        const Vec3d corner = mBounds.min() + Vec3d(std::floor((local.x() - mBounds.min().x()) * inverse),
-                                                   std::floor((local.y() - mBounds.min().y()) * inverse),
-                                                   std::floor((local.z() - mBounds.min().z()) * inverse)) *
-                                                 side;
-        cell = BBoxd(corner, corner + Vec3d(side));
-    } else {
-        const Vec3d index = mLevelIndex(local);
-        // The voxel Coord::round picks.
-        const Vec3d centre(std::floor(index.x() + 0.5) * voxel, std::floor(index.y() + 0.5) * voxel,
-                           std::floor(index.z() + 0.5) * voxel);
-        cell = BBoxd(mLevelIndex.origin + centre - Vec3d(0.5 * voxel), mLevelIndex.origin + centre + Vec3d(0.5 * voxel));
-    }
-    const double margin = 1e-6 * voxel;
-    cell = BBoxd(cell.min() + Vec3d(margin), cell.max() - Vec3d(margin));
+    // The cell's edge in level voxels, and its first voxel.
+    const int voxels = mLeavesOnLevelVoxels && sample.level >= 1 && sample.level <= mDepth ? 1 << (mDepth - sample.level) : 1;
+    const openvdb::Coord first = sample.levelVoxel & ~(voxels - 1);
+    // Voxel i spans index i - 0.5 to i + 0.5.
+    const Vec3d corner = mLevelIndex.origin + (Vec3d(first.asVec3d()) - Vec3d(0.5)) * mLevelVoxel;
+    const double margin = 1e-6 * mLevelVoxel;
+    const BBoxd cell(corner + Vec3d(margin), corner + Vec3d(voxels * mLevelVoxel - margin));
     return cell.isInside(local) ? cell : BBoxd();
 }
 

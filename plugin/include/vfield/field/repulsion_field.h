@@ -141,8 +141,9 @@ public:
     };
     Accessor accessor() const { return {TrilinearSampler(mSampled->tree()), mLevel->getConstAccessor()}; }
     struct Sample {
-        Vec3d force; ///< as force() holds it
-        int level;   ///< of the voxel holding the point: cellSize(level) is the structure there
+        Vec3d force;               ///< as force() holds it
+        int level;                 ///< of the voxel holding the point: cellSize(level) is the structure there
+        openvdb::Coord levelVoxel; ///< that voxel of level()
     };
     /// The force at an object-space point (zero outside bounds()), read as
     /// sampling() says, and the level there: what a substep needs.
@@ -150,14 +151,16 @@ public:
     /// The level at an object-space point (0 outside bounds()): sample()'s
     /// level without the force.
     int levelAt(Accessor& accessor, const Vec3d& local) const;
-    /// A box around an object-space point inside bounds(), with the level
+    /// A box around an object-space point inside bounds(), given what
     /// sample() read there, over which levelAt() reads that same level: the
-    /// octree leaf holding the point, or for the other methods its voxel,
-    /// shrunk by a millionth of a voxel so that rounding cannot put a point
-    /// in it on a neighbour's side. Empty when the point lies within that
+    /// octree leaf holding the point (from the level voxel's index: the level
+    /// grid's voxels are the finest leaves, and a leaf of level l is 2^(depth
+    /// - l) of them along each axis), or for the other methods its voxel;
+    /// shrunk by a millionth of a voxel so that rounding cannot put a point in
+    /// it on a neighbour's side. Empty when the point lies within that
     /// millionth of the cell's faces. What spares a substep staying in its
     /// cell a second read of the level where it ends.
-    BBoxd levelCell(const Vec3d& local, int level) const;
+    BBoxd levelCell(const Vec3d& local, const Sample& sample) const;
 
     /// The paper's hit test of another object's points (object space of this
     /// field): the normalized average of the unit directions at the points
@@ -189,9 +192,12 @@ protected:
         }
     };
     IndexMap mSampledIndex, mLevelIndex;
-    /// cellSize(level) and its inverse by level, 1..depth(), from setSampling
-    /// on: every particle substep asks.
-    std::vector<double> mCellSize, mInverseCellSize;
+    double mLevelVoxel = 1.0; ///< level()'s voxel edge
+    /// Octree: leaves are cubes of 2^(depth - level) level voxels from the
+    /// root's corner (false: levelCell gives the voxel alone, as for the other methods).
+    bool mLeavesOnLevelVoxels = false;
+    /// cellSize(level) by level, 1..depth(), from setSampling on: every particle substep asks.
+    std::vector<double> mCellSize;
     /// The method's cell size at a level (the octree's own table, or the root halved level - 1 times).
     virtual double structureCellSize(int level) const;
     BBoxd mBounds;
