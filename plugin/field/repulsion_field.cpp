@@ -82,7 +82,7 @@ BBoxd RepulsionField::levelCell(const Vec3d& local, const Sample& sample) const
     const int voxels = mLeavesOnLevelVoxels && sample.level >= 1 && sample.level <= mDepth ? 1 << (mDepth - sample.level) : 1;
     const openvdb::Coord first = sample.levelVoxel & ~(voxels - 1);
     // Voxel i spans index i - 0.5 to i + 0.5.
-    const Vec3d corner = mLevelIndex.origin + (Vec3d(first.asVec3d()) - Vec3d(0.5)) * mLevelVoxel;
+    const Vec3d corner = mLevelIndex.origin + (first.asVec3d() - Vec3d(0.5)) * mLevelVoxel;
     const double margin = 1e-6 * mLevelVoxel;
     const BBoxd cell(corner + Vec3d(margin), corner + Vec3d(voxels * mLevelVoxel - margin));
     return cell.isInside(local) ? cell : BBoxd();
