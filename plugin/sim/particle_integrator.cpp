@@ -135,6 +135,18 @@ bool Simulator::resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t,
         const std::size_t i = mContact[k];
         const MeshDistance& distance = *mObjects[i].distance;
         const bool isDynamic = mObjects[i].spec->isDynamic, inWorld = mWorldIsObject[i];
+        double& bound = lowerBounds[k];
+        const double skin = distance.voxelSize();
+        // Most substeps of a cloud over terrain: a static surface in world
+        // space whose carried bound clears the path, decided as below but
+        // before any pose is looked up.
+        if (!isDynamic && inWorld) {
+            const double travel = std::sqrt(3.0) * (x - from).length();
+            if (bound - travel >= 0.5 * skin) {
+                bound -= travel;
+                continue;
+            }
+        }
         Transform moving[2];
         const Transform& before = isDynamic ? (moving[0] = poseAt(i, t)) : mStates[i].pose;
         const Transform& after = isDynamic ? (moving[1] = poseAt(i, t + dt)) : before;
@@ -145,10 +157,9 @@ bool Simulator::resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t,
         // substeps, at one read instead of one per voxel of the path, or none
         // while a static object's carried bound is far enough out).
         const double travel = std::sqrt(3.0) * (b - a).length();
-        double& bound = lowerBounds[k];
         if (isDynamic) bound = -std::numeric_limits<double>::infinity(); // it moved: unknown
-        const double skin = distance.voxelSize();
-        if (bound - travel >= 0.5 * skin) { // what the rest would decide, at no read
+        // What the rest would decide, at no read.
+        if (bound - travel >= 0.5 * skin) {
             bound -= travel;
             continue;
         }
@@ -242,7 +253,7 @@ void Simulator::advanceParticles(double t0, double t1)
                 lowerBounds[k] = boundsKept ? mKeptBounds.bound[p * contacts + k] : -std::numeric_limits<double>::infinity();
             while (t < t1) {
                 const FieldsAt at = fieldsAt(x, t, cloud.mass, accessors.data(), true);
-                const Vec3d a = uniformAcceleration(fields, x) + at.acceleration;
+                const Vec3d a = (fields.rest.empty() ? fields.leadingSum : uniformAcceleration(fields, x)) + at.acceleration;
                 // In a potential flow's band the particle moves with the flow:
                 // at the terminal velocity of what acts on it, without inertia.
                 const bool carried = at.inFlow;
@@ -267,7 +278,10 @@ void Simulator::advanceParticles(double t0, double t1)
                 }
                 if (!mContact.empty()) {
                     if (resolveContacts(from, x, v, t, dt, distances, lowerBounds)) ++counts.contacts;
-                    if (endsInside(x, t + dt, distances, lowerBounds)) ++counts.endedInside;
+                    // A bound at or above zero says outside, as a read would: most substeps read nothing.
+                    const bool mayEndInside =
+                        std::any_of(lowerBounds.begin(), lowerBounds.end(), [](double bound) { return !(bound >= 0.0); });
+                    if (mayEndInside && endsInside(x, t + dt, distances, lowerBounds)) ++counts.endedInside;
                 }
                 t = (t1 - t <= dt) ? t1 : t + dt;
                 ++steps;
