@@ -4,6 +4,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <random>
 
 using namespace vfield;
@@ -64,6 +65,28 @@ void requireSameAsBoxSampler(const GridT& grid)
             const auto actual = sampler.atIndex(p);
             INFO("along a march at " << p);
             REQUIRE(actual == expected);
+            // A voxel read between trilinear ones, from the leaf they keep.
+            const openvdb::Coord voxel = openvdb::Coord::round(p);
+            REQUIRE(sampler.valueAt(voxel) == accessor.getValue(voxel));
+        }
+    }
+}
+
+template<typename GridT>
+void requireVoxelsAsAccessor(const GridT& grid)
+{
+    TrilinearSampler<typename GridT::TreeType> sampler(grid.tree());
+    const auto accessor = grid.getConstAccessor();
+    std::mt19937_64 random(7);
+    std::uniform_int_distribution<int> x(-40, 160), yz(-12, 40);
+    // Runs of neighbours along each axis from random voxels: through the
+    // leaves and across their faces, into the tile and the background.
+    for (int run = 0; run < 3000; ++run) {
+        openvdb::Coord ijk(x(random), yz(random), yz(random));
+        const openvdb::Coord step(run % 3 == 0, run % 3 == 1, run % 3 == 2);
+        for (int n = 0; n < 20; ++n, ijk += step) {
+            INFO("at " << ijk);
+            REQUIRE(sampler.valueAt(ijk) == accessor.getValue(ijk));
         }
     }
 }
@@ -81,5 +104,17 @@ TEST_CASE("trilinear sampler: reads what BoxSampler reads, bit for bit, inside l
     {
         requireSameAsBoxSampler(
             *patchworkGrid<openvdb::Vec3SGrid>([](double v) { return openvdb::Vec3s(float(v), float(2.0 * v), float(v * v)); }));
+    }
+}
+
+TEST_CASE("trilinear sampler: reads one voxel as the tree's accessor does, in leaves, a tile and the background", "[core]")
+{
+    SECTION("float")
+    {
+        requireVoxelsAsAccessor(*patchworkGrid<openvdb::FloatGrid>([](double v) { return float(v); }));
+    }
+    SECTION("integer, as the octree's levels")
+    {
+        requireVoxelsAsAccessor(*patchworkGrid<openvdb::Int32Grid>([](double v) { return int(std::lround(1000.0 * v)); }));
     }
 }

@@ -65,27 +65,32 @@ RepulsionField::Sample RepulsionField::sample(Accessor& accessor, const Vec3d& l
 {
     const Vec3d index = mSampledIndex(local);
     const openvdb::Coord levelVoxel = openvdb::Coord::round(mSampledOnLevelVoxels ? index : mLevelIndex(local));
-    const int level = accessor.level.getValue(levelVoxel);
-    if (mSampling == FieldSampling::Nearest)
-        return {Vec3d(accessor.force.valueAt(openvdb::Coord::round(index))), level, levelVoxel};
+    const int level = accessor.level.valueAt(levelVoxel);
+    if (mSampling == FieldSampling::Nearest) {
+        const openvdb::Coord forceVoxel = mSampledOnLevelVoxels ? levelVoxel : openvdb::Coord::round(index);
+        return {Vec3d(accessor.force.valueAt(forceVoxel)), level, levelVoxel};
+    }
     return {Vec3d(accessor.force.atIndex(index)), level, levelVoxel};
 }
 
 int RepulsionField::levelAt(Accessor& accessor, const Vec3d& local) const
 {
-    return accessor.level.getValue(openvdb::Coord::round(mLevelIndex(local)));
+    return accessor.level.valueAt(openvdb::Coord::round(mLevelIndex(local)));
 }
 
-BBoxd RepulsionField::levelCell(const Vec3d& local, const Sample& sample) const
+const BBoxd& RepulsionField::levelCell(Accessor& accessor, const Sample& sample) const
 {
     // The cell's edge in level voxels, and its first voxel.
     const int voxels = mLeavesOnLevelVoxels && sample.level >= 1 && sample.level <= mDepth ? 1 << (mDepth - sample.level) : 1;
     const openvdb::Coord first = sample.levelVoxel & ~(voxels - 1);
-    // Voxel i spans index i - 0.5 to i + 0.5.
-    const Vec3d corner = mLevelIndex.origin + (first.asVec3d() - Vec3d(0.5)) * mLevelVoxel;
-    const double margin = 1e-6 * mLevelVoxel;
-    const BBoxd cell(corner + Vec3d(margin), corner + Vec3d(voxels * mLevelVoxel - margin));
-    return cell.isInside(local) ? cell : BBoxd();
+    Accessor::Cell& cell = accessor.cell;
+    if (voxels != cell.voxels || first != cell.first) {
+        // Voxel i spans index i - 0.5 to i + 0.5.
+        const Vec3d corner = mLevelIndex.origin + (first.asVec3d() - Vec3d(0.5)) * mLevelVoxel;
+        const double margin = 1e-6 * mLevelVoxel;
+        cell = {first, voxels, BBoxd(corner + Vec3d(margin), corner + Vec3d(voxels * mLevelVoxel - margin))};
+    }
+    return cell.box;
 }
 
 Vec3d RepulsionField::hitTest(const std::vector<Vec3d>& points) const

@@ -80,9 +80,8 @@ Simulator::FieldsAt Simulator::fieldsAt(const Vec3d& p, double time, double mass
                 (field.isFlow() ? flow : force) += !inWorld && isRotated(pose) ? pose.rotateToWorld(sample.force) : sample.force;
                 if (field.isFlow() && sample.level > 0) at.inFlow = true;
                 level = sample.level;
-                const BBoxd cellBox = sameBoundKnown ? field.levelCell(local, sample) : BBoxd();
-                if (cellBox.min().x() > cellBox.max().x()) sameBoundKnown = false; // on a cell's face
                 if (sameBoundKnown) {
+                    const BBoxd& cellBox = field.levelCell(accessors[k], sample);
                     const Vec3d lo = inWorld ? cellBox.min() : pose.worldFromObject(cellBox.min());
                     const Vec3d hi = inWorld ? cellBox.max() : pose.worldFromObject(cellBox.max());
                     sameMin = openvdb::math::maxComponent(sameMin, lo);

@@ -35,11 +35,8 @@ public:
     {
         const openvdb::Vec3i base = openvdb::tools::local_util::floorVec3(xyz);
         const openvdb::Vec3d uvw = xyz - base;
-        const openvdb::Coord ijk(base), origin = ijk & ~kLast;
-        if (origin != mOrigin) {
-            mOrigin = origin;
-            mProbed = 0;
-        }
+        const openvdb::Coord ijk(base);
+        const openvdb::Coord origin = enterLeaf(ijk);
         ValueType data[2][2][2];
         const openvdb::Coord local = ijk - origin;
         if (local.x() != kLast && local.y() != kLast && local.z() != kLast) {
@@ -74,8 +71,16 @@ public:
         return openvdb::tools::BoxSampler::trilinearInterpolation(data, uvw);
     }
 
-    /// The value of one voxel, as the tree's accessor reads it.
-    ValueType valueAt(const openvdb::Coord& ijk) { return mAccessor.getValue(ijk); }
+    /// The value of one voxel, as the tree's accessor reads it, from the
+    /// leaf atIndex keeps: reads through the same leaf, or the same tile's
+    /// leaf-sized box, find it without descending the tree (the accessor
+    /// keeps no tile, so it descends for every read in a tile).
+    ValueType valueAt(const openvdb::Coord& ijk)
+    {
+        enterLeaf(ijk);
+        const Neighbour& leaf = neighbour(0);
+        return leaf.values ? leaf.values[LeafT::coordToOffset(ijk)] : leaf.tile;
+    }
 
 private:
     using LeafT = typename TreeT::LeafNodeType;
@@ -86,6 +91,18 @@ private:
         const ValueType* values = nullptr;
         ValueType tile{};
     };
+
+    /// Makes the leaf holding ijk slot 0's, forgetting the neighbours probed
+    /// around another; returns its origin.
+    openvdb::Coord enterLeaf(const openvdb::Coord& ijk)
+    {
+        const openvdb::Coord origin = ijk & ~kLast;
+        if (origin != mOrigin) {
+            mOrigin = origin;
+            mProbed = 0;
+        }
+        return origin;
+    }
 
     /// The leaf at mOrigin offset by a leaf along x, y and z as slot's bits
     /// 4, 2 and 1 say, probed at its first use since mOrigin changed.

@@ -134,12 +134,21 @@ public:
     /// Levels on the force's voxels (1..depth(); 0 where the field is zero).
     const openvdb::Int32Grid::Ptr& level() const { return mLevel; }
 
-    /// Cached reads of sampledForce() and level(), one per thread.
+    /// Cached reads of sampledForce() and level(), one per thread. The
+    /// level is read voxel by voxel (valueAt), through the leaf (or the
+    /// tile, as over a coarse octree leaf) the last read found.
     struct Accessor {
         TrilinearSampler<openvdb::Vec3STree> force;
-        openvdb::Int32Grid::ConstAccessor level;
+        TrilinearSampler<openvdb::Int32Tree> level;
+        /// The last levelCell(), given again for the next point in the same
+        /// cell (most: particles come in spatial order).
+        struct Cell {
+            openvdb::Coord first; ///< its first level voxel
+            int voxels = 0;       ///< its edge in level voxels; 0: none yet
+            BBoxd box;
+        } cell;
     };
-    Accessor accessor() const { return {TrilinearSampler(mSampled->tree()), mLevel->getConstAccessor()}; }
+    Accessor accessor() const { return {TrilinearSampler(mSampled->tree()), TrilinearSampler(mLevel->tree()), {}}; }
     struct Sample {
         Vec3d force;               ///< as force() holds it
         int level;                 ///< of the voxel holding the point: cellSize(level) is the structure there
@@ -151,16 +160,16 @@ public:
     /// The level at an object-space point (0 outside bounds()): sample()'s
     /// level without the force.
     int levelAt(Accessor& accessor, const Vec3d& local) const;
-    /// A box around an object-space point inside bounds(), given what
-    /// sample() read there, over which levelAt() reads that same level: the
-    /// octree leaf holding the point (from the level voxel's index: the level
+    /// The box, around an object-space point inside bounds(), over which
+    /// levelAt() reads the level that sample() read there: the octree leaf
+    /// holding the point's level voxel (from that voxel's index: the level
     /// grid's voxels are the finest leaves, and a leaf of level l is 2^(depth
-    /// - l) of them along each axis), or for the other methods its voxel;
+    /// - l) of them along each axis), or for the other methods that voxel;
     /// shrunk by a millionth of a voxel so that rounding cannot put a point in
-    /// it on a neighbour's side. Empty when the point lies within that
-    /// millionth of the cell's faces. What spares a substep staying in its
-    /// cell a second read of the level where it ends.
-    BBoxd levelCell(const Vec3d& local, const Sample& sample) const;
+    /// it on a neighbour's side (so the point itself may lie up to that far
+    /// outside it). What spares a substep staying in its cell a second read
+    /// of the level where it ends. Held by the accessor until its next levelCell().
+    const BBoxd& levelCell(Accessor& accessor, const Sample& sample) const;
 
     /// The paper's hit test of another object's points (object space of this
     /// field): the normalized average of the unit directions at the points
