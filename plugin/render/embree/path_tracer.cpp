@@ -358,10 +358,12 @@ ScatteredLightGrid traceScatteredLight(const FrameToRender& f)
                 for (int i = i0; i <= i1; ++i) traced[lattice.index(i, j, k)] = 1;
     }
 
-    // Of those, only the points the camera sees, and their neighbours (a
-    // sample the march keeps interpolates them): deeper than optical depth
-    // kHiddenDepth from the camera, a point's light reaches no pixel.
-    std::vector<char> seen(lattice.size(), 0);
+    // Of those, only the points whose light reaches the image. The march's
+    // samples interpolate the points within a lattice cell of them, so a
+    // point's light reaches the camera through at most the largest
+    // transmittance of it and its neighbours; below e^-kHiddenDepth, none.
+    const float kSeen = float(std::exp(-kHiddenDepth));
+    std::vector<float> cameraTransmittance(lattice.size(), 0.0f);
     const double extinction = f.settings->medium.extinction, step = 0.5 * spacing;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, lattice.size(), 256), [&](const tbb::blocked_range<std::size_t>& r) {
         CloudVolume::Density reader(density.tree());
@@ -374,24 +376,30 @@ ScatteredLightGrid traceScatteredLight(const FrameToRender& f)
             if (lighting.clip(p, dir, tEnter, tExit))
                 for (double t = tEnter + 0.5 * step; t < tExit && depth <= kHiddenDepth; t += step)
                     depth += extinction * reader.atIndex(density.transform().worldToIndex(p + dir * t)) * step;
-            seen[n] = depth <= kHiddenDepth;
+            cameraTransmittance[n] = float(std::exp(-depth));
         }
     });
+    std::vector<float> reachesImage(lattice.size(), 0.0f);
     for (std::size_t n = 0; n < lattice.size(); ++n) {
         if (!traced[n]) continue;
         const std::array<int, 3> ijk = lattice.point(n);
-        bool nearSeen = false;
-        for (int c = 0; c < 27 && !nearSeen; ++c) {
+        for (int c = 0; c < 27; ++c) {
             const int i = ijk[0] + c % 3 - 1, j = ijk[1] + c / 3 % 3 - 1, k = ijk[2] + c / 9 - 1;
-            nearSeen =
-                i >= 0 && j >= 0 && k >= 0 && i < points[0] && j < points[1] && k < points[2] && seen[lattice.index(i, j, k)];
+            if (i >= 0 && j >= 0 && k >= 0 && i < points[0] && j < points[1] && k < points[2])
+                reachesImage[n] = std::max(reachesImage[n], cameraTransmittance[lattice.index(i, j, k)]);
         }
-        traced[n] = nearSeen;
+        traced[n] = reachesImage[n] >= kSeen;
     }
 
     // Each point's paths scatter there first, towards the camera: they leave
     // along a direction drawn from the phase function about the camera's ray
-    // through the point, as a camera path scattering there would.
+    // through the point, as a camera path scattering there would. Their
+    // number is pathsPerPoint times the transmittance T through which the
+    // point's light reaches the image (at least one): a point adds T^2
+    // variance / paths of noise to the image, least for a given number of
+    // paths when each point's are in proportion to its T. Against the
+    // transmittance to the point alone, the noise doubled: the points just
+    // behind the cloud's lit surface reach the image through samples in front.
     const Medium medium(f.volume, f.settings->medium);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, lattice.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
         PathTracer tracer(f, medium, PathTracer::SunThroughCloud::AsTheMarch);
@@ -401,12 +409,13 @@ ScatteredLightGrid traceScatteredLight(const FrameToRender& f)
             const Vec3d p = lattice.position(ijk[0], ijk[1], ijk[2]);
             const Vec3d cameraRay = (p - f.camera.position()).unitSafe();
             Vec3d sum(0.0);
-            for (int path = 0; path < settings.pathsPerPoint; ++path) {
+            const int paths = std::max(1, int(std::ceil(settings.pathsPerPoint * double(reachesImage[n]))));
+            for (int path = 0; path < paths; ++path) {
                 // Streams apart from the camera's (frame, pixel, sample) ones.
                 SampleRandom random(uint32_t(f.frame) ^ 0x9e3779b9u, uint32_t(n), uint32_t(path));
                 sum += tracer.radiance(p, tracer.scatteredDirection(cameraRay, random), PathTracer::Start::Scattered, random);
             }
-            for (int c = 0; c < 3; ++c) grid.rgb[c][n] = float(sum[c] / settings.pathsPerPoint);
+            for (int c = 0; c < 3; ++c) grid.rgb[c][n] = float(sum[c] / paths);
         }
     });
     return grid;

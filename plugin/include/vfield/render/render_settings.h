@@ -195,7 +195,7 @@ struct MultipleScattering {
     double eccentricityFalloff = 0.25; ///< c (0..1)
     double skyScatteringFalloff = 0.5; ///< a for the light of the sky and the ground, diffuse already (0..1)
     double pathSpacing = 3.0;          ///< paths: lattice spacing, density voxels (1..64)
-    int pathsPerPoint = 32;            ///< paths: reference paths traced from each lattice point in the cloud (1..4096)
+    int pathsPerPoint = 32;            ///< paths: reference paths from a lattice point the camera sees unobstructed (1..4096)
 
     void validate() const;
 
@@ -222,7 +222,8 @@ struct MultipleScattering {
                   .doc("paths: the lattice's spacing; coarser is faster and darker where the cloud's lit surface curves"));
         visit(field("pathsPerPoint", self.pathsPerPoint)
                   .range(1, 4096)
-                  .doc("paths: reference paths traced from each lattice point in the cloud"));
+                  .doc("paths: reference paths traced from each lattice point the camera sees unobstructed; a "
+                       "point seen through the cloud takes that many times the transmittance between them, at least one"));
     }
 };
 

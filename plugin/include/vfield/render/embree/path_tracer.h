@@ -30,9 +30,10 @@ RenderImage renderReference(const FrameToRender& frame);
 /// whose cells hold density and that the camera sees, the reference's
 /// estimate of the light a camera ray scattering there receives from all but
 /// the sun's direct light: multiply scattered sunlight, the sky and the
-/// lit ground, over MultipleScattering::pathsPerPoint paths that leave each
-/// point in directions drawn from the phase function about the camera's ray
-/// through it. frame.volume must be non-empty.
+/// lit ground, over paths that leave each point in directions drawn from the
+/// phase function about the camera's ray through it: MultipleScattering::
+/// pathsPerPoint times the transmittance through which the point's light
+/// reaches the camera (at least one). frame.volume must be non-empty.
 ScatteredLightGrid traceScatteredLight(const FrameToRender& frame);
 
 } // namespace vfield
