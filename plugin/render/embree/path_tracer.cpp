@@ -225,12 +225,10 @@ public:
         Vec3d radiance(0.0), weight(1.0);
         double firstDistance = -1.0; // of the camera ray's event; none: the sky
         for (int events = fromCamera ? 0 : 1;;) {
-            SurfaceHit hit;
-            const bool isSurface = mFrame.surfaces->intersect(origin, dir, 0.0, kInfinity, hit);
-            const std::optional<double> scatter =
-                mDensity ? mMedium.collision(*mDensity, origin, dir, 0.0, isSurface ? hit.distance : kInfinity, random)
-                         : std::nullopt;
             const bool cameraRay = fromCamera && events == 0;
+            SurfaceHit hit;
+            bool isSurface = false;
+            const std::optional<double> scatter = nextEvent(origin, dir, cameraRay, random, hit, isSurface);
             if (cameraRay) {
                 if (isSurface && seen) seen->depth = float(hit.distance);
                 if (scatter || isSurface) firstDistance = scatter ? *scatter : hit.distance;
@@ -288,6 +286,29 @@ public:
     }
 
 private:
+    /// The first event along origin + t dir: a collision in the medium (its
+    /// distance), or else the first surface (hit, isSurface), or neither.
+    /// Within the cloud most free paths end before any surface, so after the
+    /// camera ray the collision is drawn first and only the segment up to it
+    /// is tested for a surface (any hit, bounded: a fraction of a full
+    /// intersection's cost); delta tracking's tentative collisions do not
+    /// depend on where it stops, so a surface before the collision is the
+    /// same event as a walk stopped at the surface. The camera ray intersects
+    /// first, for the depth of what it sees.
+    std::optional<double> nextEvent(const Vec3d& origin, const Vec3d& dir, bool cameraRay, SampleRandom& random, SurfaceHit& hit,
+                                    bool& isSurface)
+    {
+        if (cameraRay || !mDensity) {
+            isSurface = mFrame.surfaces->intersect(origin, dir, 0.0, kInfinity, hit);
+            if (!mDensity) return std::nullopt;
+            return mMedium.collision(*mDensity, origin, dir, 0.0, isSurface ? hit.distance : kInfinity, random);
+        }
+        const std::optional<double> scatter = mMedium.collision(*mDensity, origin, dir, 0.0, kInfinity, random);
+        if (scatter && !mFrame.surfaces->occluded(origin, dir, 0.0, *scatter)) return scatter;
+        isSurface = mFrame.surfaces->intersect(origin, dir, 0.0, kInfinity, hit);
+        return scatter && !(isSurface && hit.distance < *scatter) ? scatter : std::nullopt;
+    }
+
     /// The sun's light reaching p (offset off any surface) through surfaces and cloud.
     double sunReaching(const Vec3d& p, SampleRandom& random)
     {
