@@ -2,8 +2,9 @@
 // as a ratio measured in one run:
 //  - raw Embree: a primary ray per sample (one through a pixel's centre, or
 //    the showcase's own count jittered over it) and a shadow ray per hit
-//    (rtcIntersect1 / rtcOccluded1 over TBB tiles) on the showcase terrain,
-//    against vfield's surface-only frame;
+//    over TBB tiles on the showcase terrain, one at a time (rtcIntersect1 /
+//    rtcOccluded1) and in 8-wide packets (rtcIntersect8 / rtcOccluded8, as
+//    vfield traces them), against vfield's surface-only frame;
 //  - a raw OpenVDB trilinear sampler loop over the showcase's force grid and
 //    particles in spawn order, against vfield's advection;
 //  - POV-Ray on the same frame and settings as vfield's cloud frame.
@@ -57,11 +58,10 @@ struct RawEmbree {
     }
 };
 
-void BM_RawEmbreeRays(benchmark::State& state)
+/// One ray at a time: a primary ray per sample and a shadow ray per hit.
+void rawEmbreeOneAtATime(benchmark::State& state, const RawEmbree& raw, ShowcaseFrame& s, int width, int height,
+                         int samplesPerPixel)
 {
-    ShowcaseFrame& s = showcase();
-    static RawEmbree raw(s.terrain);
-    const int width = int(state.range(0)), height = int(state.range(1)), samplesPerPixel = int(state.range(2));
     const Camera camera = Camera::fromSettings(s.scene.render.camera, width, height);
     const Vec3f toSun(s.scene.render.sun.direction.unitSafe());
     std::vector<float> shade(std::size_t(width) * height);
@@ -108,16 +108,90 @@ void BM_RawEmbreeRays(benchmark::State& state)
         });
         benchmark::DoNotOptimize(shade.data());
     }
+}
+
+/// A lane of a packet: a ray from origin along dir, to infinity.
+void setLane(RTCRay8& ray, int lane, const Vec3f& origin, const Vec3d& dir)
+{
+    ray.org_x[lane] = origin[0];
+    ray.org_y[lane] = origin[1];
+    ray.org_z[lane] = origin[2];
+    ray.dir_x[lane] = float(dir[0]);
+    ray.dir_y[lane] = float(dir[1]);
+    ray.dir_z[lane] = float(dir[2]);
+    ray.tfar[lane] = std::numeric_limits<float>::infinity();
+    ray.mask[lane] = ~0u;
+}
+
+/// The same rays eight neighbouring pixels of a row at a time, as vfield
+/// traces them (Embree's 8-wide packets, coherent): a sample's primary rays,
+/// then the shadow rays of those that hit.
+void rawEmbreePackets(benchmark::State& state, const RawEmbree& raw, ShowcaseFrame& s, int width, int height, int samplesPerPixel)
+{
+    const Camera camera = Camera::fromSettings(s.scene.render.camera, width, height);
+    const Vec3f eye(camera.position()), toSun(s.scene.render.sun.direction.unitSafe());
+    std::vector<float> shade(std::size_t(width) * height);
+    for (auto _ : state) {
+        tbb::parallel_for(tbb::blocked_range2d<int>(0, height, 16, 0, width, 16), [&](const tbb::blocked_range2d<int>& r) {
+            RTCIntersectContext context;
+            rtcInitIntersectContext(&context);
+            context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+            for (int y = r.rows().begin(); y != r.rows().end(); ++y)
+                for (int x0 = r.cols().begin(); x0 < r.cols().end(); x0 += 8) {
+                    const int count = std::min(8, r.cols().end() - x0);
+                    float value[8] = {};
+                    for (int sample = 0; sample < samplesPerPixel; ++sample) {
+                        alignas(32) int valid[8] = {}, shadowValid[8] = {};
+                        alignas(32) RTCRayHit8 hit{};
+                        for (int lane = 0; lane < count; ++lane) {
+                            // One ray through the centre, or each jittered over the pixel, as vfield's.
+                            SampleRandom random(0, uint32_t(y) * uint32_t(width) + uint32_t(x0 + lane), uint32_t(sample));
+                            const double jx = samplesPerPixel == 1 ? 0.5 : random.next();
+                            const double jy = samplesPerPixel == 1 ? 0.5 : random.next();
+                            valid[lane] = -1;
+                            setLane(hit.ray, lane, eye, camera.direction(x0 + lane + jx, y + jy));
+                            hit.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+                        }
+                        rtcIntersect8(valid, raw.scene, &context, &hit);
+                        alignas(32) RTCRay8 shadow{};
+                        for (int lane = 0; lane < count; ++lane) {
+                            if (hit.hit.geomID[lane] == RTC_INVALID_GEOMETRY_ID) continue;
+                            shadowValid[lane] = -1;
+                            const float t = hit.ray.tfar[lane] * 0.999f;
+                            setLane(shadow, lane,
+                                    Vec3f(hit.ray.org_x[lane] + hit.ray.dir_x[lane] * t,
+                                          hit.ray.org_y[lane] + hit.ray.dir_y[lane] * t,
+                                          hit.ray.org_z[lane] + hit.ray.dir_z[lane] * t),
+                                    Vec3d(toSun));
+                        }
+                        rtcOccluded8(shadowValid, raw.scene, &context, &shadow);
+                        for (int lane = 0; lane < count; ++lane)
+                            if (shadowValid[lane]) value[lane] += shadow.tfar[lane] < 0.0f ? 0.5f : 1.0f;
+                    }
+                    for (int lane = 0; lane < count; ++lane)
+                        shade[std::size_t(y) * width + x0 + lane] = value[lane] / float(samplesPerPixel);
+                }
+        });
+        benchmark::DoNotOptimize(shade.data());
+    }
+}
+
+void BM_RawEmbreeRays(benchmark::State& state)
+{
+    ShowcaseFrame& s = showcase();
+    static RawEmbree raw(s.terrain);
+    const int width = int(state.range(0)), height = int(state.range(1)), samplesPerPixel = int(state.range(2));
+    if (state.range(3) != 0) rawEmbreePackets(state, raw, s, width, height, samplesPerPixel);
+    else rawEmbreeOneAtATime(state, raw, s, width, height, samplesPerPixel);
     state.counters["primary_rays_per_s"] =
         benchmark::Counter(double(width) * height * samplesPerPixel, benchmark::Counter::kIsIterationInvariantRate);
 }
-// At one sample a pixel and at the showcase's own (kShowcaseSamplesPerPixel).
+// At one sample a pixel and at the showcase's own (kShowcaseSamplesPerPixel),
+// one ray at a time and in packets.
 BENCHMARK(BM_RawEmbreeRays)
-    ->ArgNames({"w", "h", "spp"})
-    ->Args({640, 360, 1})
-    ->Args({1280, 720, 1})
-    ->Args({640, 360, kShowcaseSamplesPerPixel})
-    ->Args({1280, 720, kShowcaseSamplesPerPixel})
+    ->ArgNames({"w", "h", "spp", "packets"})
+    ->ArgsProduct({{640}, {360}, {1, kShowcaseSamplesPerPixel}, {0, 1}})
+    ->ArgsProduct({{1280}, {720}, {1, kShowcaseSamplesPerPixel}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

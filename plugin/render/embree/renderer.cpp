@@ -4,6 +4,7 @@
 #include <vfield/render/embree/path_tracer.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -37,16 +38,24 @@ SurfaceShading surfaceShading(const FrameToRender& frame, const SurfaceHit& hit)
 
 namespace {
 
+/// Where a surface point's shadow ray starts: off the surface, so that it
+/// does not find the surface itself.
+Vec3d shadowRayOrigin(const SurfaceHit& hit) { return hit.position + hit.geometricNormal * 1e-3 * (1.0 + hit.distance); }
+
+/// Does the surface face the sun? Only then is its shadow ray traced.
+bool facesSun(const FrameToRender& f, const SurfaceShading& surface)
+{
+    return surface.normal.dot(f.settings->sun.direction.unitSafe()) > 0.0;
+}
+
 /// The light a surface point sends back as the fast integrator sees it: the
-/// sun (shadowed by surfaces, softened through the cloud) and the sky.
-Vec3d directlyLitSurface(const FrameToRender& f, const SurfaceHit& hit, const SurfaceShading& surface)
+/// sun (unless a surface blocks it, softened through the cloud) and the sky.
+Vec3d directlyLitSurface(const FrameToRender& f, const SurfaceHit& hit, const SurfaceShading& surface, bool sunBlocked)
 {
     const RenderSettings& s = *f.settings;
     const Vec3d toSun = s.sun.direction.unitSafe(), sunRadiance = s.sun.color * s.sun.intensity;
-    const Vec3d offset = hit.position + hit.geometricNormal * 1e-3 * (1.0 + hit.distance);
-    double sun = std::max(0.0, surface.normal.dot(toSun));
-    if (sun > 0 && f.surfaces->occluded(offset, toSun, 0.0, std::numeric_limits<double>::max())) sun = 0.0;
-    if (sun > 0 && f.volume) sun *= f.volume->surfaceSunTransmittance(offset);
+    double sun = sunBlocked ? 0.0 : std::max(0.0, surface.normal.dot(toSun));
+    if (sun > 0 && f.volume) sun *= f.volume->surfaceSunTransmittance(shadowRayOrigin(hit));
     const Vec3d light = sunRadiance * (sun / M_PI) + skyLightOnSurface(s.sky, surface.normal);
     return surface.albedo * light;
 }
@@ -69,7 +78,14 @@ Vec3d groundRadianceBelow(const FrameToRender& f)
                              box.min()[2] + (k + 0.5) / kRays * (box.max()[2] - box.min()[2]));
             SurfaceHit hit;
             const bool ground = f.surfaces->intersect(from, Vec3d(0, -1, 0), 0.0, std::numeric_limits<double>::max(), hit);
-            sum += ground ? directlyLitSurface(f, hit, surfaceShading(f, hit)) : s.sky.horizonColor * s.sky.intensity;
+            if (!ground) {
+                sum += s.sky.horizonColor * s.sky.intensity;
+                continue;
+            }
+            const SurfaceShading surface = surfaceShading(f, hit);
+            const bool sunBlocked = facesSun(f, surface) && f.surfaces->occluded(shadowRayOrigin(hit), s.sun.direction.unitSafe(),
+                                                                                 0.0, std::numeric_limits<double>::max());
+            sum += directlyLitSurface(f, hit, surface, sunBlocked);
         }
     return sum / double(kRays * kRays);
 }
@@ -79,47 +95,71 @@ Vec3d groundRadianceBelow(const FrameToRender& f)
 /// more than once by octaves or from the frame's lattice of paths
 /// (traceScatteredLight). A surface's noise is drawn once per pixel (at its
 /// first sample on that surface); its geometry, light and shadows at every
-/// sample.
+/// sample. Camera rays, and then their shadow rays, are traced a packet at
+/// a time.
 RenderImage renderFast(const FrameToRender& f)
 {
     const RenderSettings& s = *f.settings;
-    const Vec3d sunRadiance = s.sun.color * s.sun.intensity;
+    const Vec3d sunRadiance = s.sun.color * s.sun.intensity, toSun = s.sun.direction.unitSafe();
     const Vec3d skyAmbient = cloudAmbientRadiance(s.sky, groundRadianceBelow(f));
     const bool tracedLight =
         f.volume && !f.volume->empty() && s.integrator.multipleScattering.method == MultipleScatteringMethod::Paths;
     const ScatteredLightGrid scattered = tracedLight ? traceScatteredLight(f) : ScatteredLightGrid();
+    constexpr int kLanes = SamplePacket::kSize;
+    constexpr double kFar = std::numeric_limits<double>::max();
 
-    return renderCameraSamples(f, [&] {
+    return renderCameraPackets(f, [&] {
         struct PixelNoise {
             uint32_t pixel = std::numeric_limits<uint32_t>::max();
             int object = -1;
             SurfaceNoise noise;
         };
-        return [&, drawn = PixelNoise()](const Vec3d& dir, SampleRandom& random, uint32_t pixel) mutable {
-            CameraSample seen;
-            SurfaceHit hit;
-            const bool isSurface = f.surfaces->intersect(f.camera.position(), dir, 0.0, std::numeric_limits<double>::max(), hit);
-            if (isSurface && (drawn.pixel != pixel || drawn.object != hit.object))
-                drawn = {pixel, hit.object,
-                         surfaceNoise(surfaceMaterial(f, hit.object), hit.position, pixelFootprint(f, hit, dir))};
-            // Premultiplied: a drawn sky is an opaque background; a
-            // transparent one adds neither light nor coverage.
-            const bool drawSky = !s.image.transparentSky;
-            seen.radiance =
-                isSurface ? throughHaze(s.sky, directlyLitSurface(f, hit, surfaceShading(f, hit, drawn.noise)), hit.distance)
-                : drawSky ? skyRadiance(s, dir)
-                          : Vec3d(0.0);
-            seen.alpha = isSurface || drawSky ? 1.0 : 0.0;
-            if (f.volume) {
-                const CloudVolume::Segment cloud =
-                    f.volume->march(f.camera.position(), dir, 0.0, isSurface ? hit.distance : 1e30, random.next(), sunRadiance,
-                                    skyAmbient, tracedLight ? &scattered : nullptr);
-                seen.radiance = throughHaze(s.sky, cloud.radiance, cloud.distance, 1.0 - cloud.transmittance) +
-                                seen.radiance * cloud.transmittance;
-                seen.alpha = 1.0 - (1.0 - seen.alpha) * cloud.transmittance;
+        return [&, drawn = std::array<PixelNoise, kLanes>()](SamplePacket& packet, CameraSample* seen) mutable {
+            const int count = packet.count;
+            std::array<Vec3d, kLanes> origins, shadowOrigins, towardsSun;
+            std::array<SurfaceHit, kLanes> hits;
+            std::array<SurfaceShading, kLanes> surfaces;
+            std::array<bool, kLanes> isSurface{}, litSide{}, sunBlocked{};
+            origins.fill(f.camera.position());
+            towardsSun.fill(toSun);
+            f.surfaces->intersect(origins.data(), packet.dirs.data(), count, 0.0, kFar, hits.data(), isSurface.data());
+            for (int lane = 0; lane < count; ++lane) {
+                if (!isSurface[lane]) continue;
+                const SurfaceHit& hit = hits[lane];
+                PixelNoise& noise = drawn[lane];
+                if (noise.pixel != packet.pixels[lane] || noise.object != hit.object)
+                    noise = {
+                        packet.pixels[lane], hit.object,
+                        surfaceNoise(surfaceMaterial(f, hit.object), hit.position, pixelFootprint(f, hit, packet.dirs[lane]))};
+                surfaces[lane] = surfaceShading(f, hit, noise.noise);
+                litSide[lane] = facesSun(f, surfaces[lane]);
+                shadowOrigins[lane] = shadowRayOrigin(hit);
             }
-            if (isSurface) seen.depth = float(hit.distance);
-            return seen;
+            f.surfaces->occluded(shadowOrigins.data(), towardsSun.data(), litSide.data(), count, 0.0, kFar, sunBlocked.data());
+
+            for (int lane = 0; lane < count; ++lane) {
+                const Vec3d& dir = packet.dirs[lane];
+                const SurfaceHit& hit = hits[lane];
+                CameraSample& sample = seen[lane] = CameraSample();
+                // Premultiplied: a drawn sky is an opaque background; a
+                // transparent one adds neither light nor coverage.
+                const bool drawSky = !s.image.transparentSky;
+                sample.radiance =
+                    isSurface[lane]
+                        ? throughHaze(s.sky, directlyLitSurface(f, hit, surfaces[lane], sunBlocked[lane]), hit.distance)
+                    : drawSky ? skyRadiance(s, dir)
+                              : Vec3d(0.0);
+                sample.alpha = isSurface[lane] || drawSky ? 1.0 : 0.0;
+                if (f.volume) {
+                    const CloudVolume::Segment cloud =
+                        f.volume->march(f.camera.position(), dir, 0.0, isSurface[lane] ? hit.distance : 1e30,
+                                        packet.randoms[lane].next(), sunRadiance, skyAmbient, tracedLight ? &scattered : nullptr);
+                    sample.radiance = throughHaze(s.sky, cloud.radiance, cloud.distance, 1.0 - cloud.transmittance) +
+                                      sample.radiance * cloud.transmittance;
+                    sample.alpha = 1.0 - (1.0 - sample.alpha) * cloud.transmittance;
+                }
+                if (isSurface[lane]) sample.depth = float(hit.distance);
+            }
         };
     });
 }

@@ -4,6 +4,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -81,6 +82,38 @@ struct SurfaceScene::Impl {
     /// The scene rays are traced in: with no dynamic meshes, the static BVH
     /// itself, which saves traversing the instance level.
     RTCScene traced() const { return dynamics.empty() && staticBvh.scene ? staticBvh.scene : top; }
+
+    /// What Embree found along origin + t dir (dir unit), as a SurfaceHit:
+    /// the smooth normal from the corners' normals, both normals in world
+    /// space and facing the ray. instance is RTC_INVALID_GEOMETRY_ID for a hit
+    /// in the static BVH traced directly; ng the geometric normal in the
+    /// instance's object space.
+    void fill(const Vec3d& origin, const Vec3d& dir, float distance, float u, float v, unsigned primitive, unsigned instance,
+              const Vec3d& ng, SurfaceHit& hit) const
+    {
+        const unsigned index = instance == RTC_INVALID_GEOMETRY_ID ? 0 : instance;
+        const MeshBvh& bvh = index == 0 ? staticBvh : dynamics[index - 1].bvh;
+        const Transform* pose = index == 0 ? nullptr : &dynamics[index - 1].pose;
+        const unsigned* corner = bvh.indices + 3 * std::size_t(primitive);
+        const double du = u, dv = v;
+        Vec3d shading = Vec3d(bvh.normals[corner[0]]) * (1 - du - dv) + Vec3d(bvh.normals[corner[1]]) * du +
+                        Vec3d(bvh.normals[corner[2]]) * dv;
+        Vec3d geometric = ng;
+        if (pose) {
+            shading = pose->rotateToWorld(shading);
+            geometric = pose->rotateToWorld(geometric);
+        }
+        geometric = geometric.unitSafe();
+        if (geometric.dot(dir) > 0) geometric = -geometric;
+        shading = shading.unitSafe();
+        if (shading.dot(geometric) < 0) shading = -shading;
+
+        hit.distance = distance;
+        hit.position = origin + dir * hit.distance;
+        hit.normal = shading;
+        hit.geometricNormal = geometric;
+        hit.object = index == 0 ? staticObjectOf[primitive] : dynamics[index - 1].object;
+    }
 
     ~Impl()
     {
@@ -175,32 +208,83 @@ bool SurfaceScene::intersect(const Vec3d& origin, const Vec3d& dir, double tMin,
     rh.hit.geomID = rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(mImpl->traced(), &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-
-    // No instance: a hit in the static BVH traced directly.
-    const unsigned instance = rh.hit.instID[0] == RTC_INVALID_GEOMETRY_ID ? 0 : rh.hit.instID[0];
-    const MeshBvh& bvh = instance == 0 ? mImpl->staticBvh : mImpl->dynamics[instance - 1].bvh;
-    const Transform* pose = instance == 0 ? nullptr : &mImpl->dynamics[instance - 1].pose;
-    // Smooth normal from the corners' normals (object space), then into the world.
-    const unsigned* index = bvh.indices + 3 * std::size_t(rh.hit.primID);
-    const double u = rh.hit.u, v = rh.hit.v;
-    Vec3d shading =
-        Vec3d(bvh.normals[index[0]]) * (1 - u - v) + Vec3d(bvh.normals[index[1]]) * u + Vec3d(bvh.normals[index[2]]) * v;
-    Vec3d geometric(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z); // object space of the instance
-    if (pose) {
-        shading = pose->rotateToWorld(shading);
-        geometric = pose->rotateToWorld(geometric);
-    }
-    geometric = geometric.unitSafe();
-    if (geometric.dot(dir) > 0) geometric = -geometric;
-    shading = shading.unitSafe();
-    if (shading.dot(geometric) < 0) shading = -shading;
-
-    hit.distance = rh.ray.tfar;
-    hit.position = origin + dir * hit.distance;
-    hit.normal = shading;
-    hit.geometricNormal = geometric;
-    hit.object = instance == 0 ? mImpl->staticObjectOf[rh.hit.primID] : mImpl->dynamics[instance - 1].object;
+    mImpl->fill(origin, dir, rh.ray.tfar, rh.hit.u, rh.hit.v, rh.hit.primID, rh.hit.instID[0],
+                Vec3d(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), hit);
     return true;
+}
+
+namespace {
+
+/// A packet's valid lanes: the first count, Embree's -1.
+using PacketLanes = std::array<int, SurfaceScene::kPacket>;
+
+/// A ray of a packet as the single-ray queries set it.
+template<typename Ray8>
+void setLane(Ray8& ray, int lane, const Vec3d& origin, const Vec3d& dir, double tMin, double tMax)
+{
+    ray.org_x[lane] = float(origin[0]);
+    ray.org_y[lane] = float(origin[1]);
+    ray.org_z[lane] = float(origin[2]);
+    ray.dir_x[lane] = float(dir[0]);
+    ray.dir_y[lane] = float(dir[1]);
+    ray.dir_z[lane] = float(dir[2]);
+    ray.tnear[lane] = float(tMin);
+    ray.tfar[lane] = float(std::min(tMax, double(std::numeric_limits<float>::max())));
+    ray.mask[lane] = ~0u;
+    ray.flags[lane] = 0;
+    ray.time[lane] = 0.0f;
+}
+
+void checkPacket(int count)
+{
+    if (count < 0 || count > SurfaceScene::kPacket)
+        throw ValueError("a packet of " + std::to_string(count) + " rays (at most " + std::to_string(SurfaceScene::kPacket) +
+                         ")");
+}
+
+} // namespace
+
+void SurfaceScene::intersect(const Vec3d* origins, const Vec3d* dirs, int count, double tMin, double tMax, SurfaceHit* hits,
+                             bool* found) const
+{
+    checkPacket(count);
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    alignas(32) PacketLanes valid{};
+    alignas(32) RTCRayHit8 rh{};
+    for (int lane = 0; lane < count; ++lane) {
+        valid[lane] = -1;
+        setLane(rh.ray, lane, origins[lane], dirs[lane], tMin, tMax);
+        rh.hit.geomID[lane] = rh.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect8(valid.data(), mImpl->traced(), &context, &rh);
+    for (int lane = 0; lane < count; ++lane) {
+        found[lane] = rh.hit.geomID[lane] != RTC_INVALID_GEOMETRY_ID;
+        if (found[lane])
+            mImpl->fill(origins[lane], dirs[lane], rh.ray.tfar[lane], rh.hit.u[lane], rh.hit.v[lane], rh.hit.primID[lane],
+                        rh.hit.instID[0][lane], Vec3d(rh.hit.Ng_x[lane], rh.hit.Ng_y[lane], rh.hit.Ng_z[lane]), hits[lane]);
+    }
+}
+
+void SurfaceScene::occluded(const Vec3d* origins, const Vec3d* dirs, const bool* active, int count, double tMin, double tMax,
+                            bool* blocked) const
+{
+    checkPacket(count);
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    alignas(32) PacketLanes valid{};
+    alignas(32) RTCRay8 ray{};
+    bool any = false;
+    for (int lane = 0; lane < count; ++lane) {
+        if (!active[lane]) continue;
+        valid[lane] = -1;
+        any = true;
+        setLane(ray, lane, origins[lane], dirs[lane], tMin, tMax);
+    }
+    if (any) rtcOccluded8(valid.data(), mImpl->traced(), &context, &ray);
+    for (int lane = 0; lane < count; ++lane) blocked[lane] = active[lane] && ray.tfar[lane] < 0.0f; // -inf on a hit
 }
 
 bool SurfaceScene::occluded(const Vec3d& origin, const Vec3d& dir, double tMin, double tMax) const

@@ -8,11 +8,13 @@
 #include <vfield/core/stopwatch.h>
 #include <vfield/render/embree/renderer.h>
 #include <vfield/render/embree/sample_random.h>
+#include <vfield/render/embree/surfaces.h>
 
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <functional>
 #include <limits>
@@ -51,12 +53,25 @@ private:
     Stopwatch mSinceTold; ///< guarded by mMutex
 };
 
+/// Camera samples taken together: the same sample of up to
+/// SurfaceScene::kPacket neighbouring pixels of a row, so that their rays can
+/// be traced as one packet.
+struct SamplePacket {
+    static constexpr int kSize = SurfaceScene::kPacket;
+    int count = 0;                           ///< lanes in use
+    std::array<Vec3d, kSize> dirs;           ///< unit camera directions
+    std::array<SampleRandom, kSize> randoms; ///< each sample's stream, past the pixel jitter's draws
+    std::array<uint32_t, kSize> pixels;
+};
+
 /// makeSampler() is called once per tile (so that it can hold per-thread
 /// state such as grid accessors) and returns a callable
-/// CameraSample(const Vec3d& dir, SampleRandom& random, uint32_t pixel) for
-/// unit camera directions; a pixel's samples come one after another.
-template<typename MakeSampler>
-RenderImage renderCameraSamples(const FrameToRender& f, const MakeSampler& makeSampler)
+/// void(SamplePacket& packet, CameraSample* seen) that fills seen[i] for
+/// each lane i < packet.count. A group of pixels' samples come one packet
+/// after another: sample 0 of each, then sample 1, and so on; each pixel
+/// sums its samples in that order.
+template<typename MakePacketSampler>
+RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler& makeSampler)
 {
     const ImageSettings& settings = f.settings->image;
     const int width = settings.width, height = settings.height, samplesPerPixel = settings.samplesPerPixel;
@@ -70,33 +85,63 @@ RenderImage renderCameraSamples(const FrameToRender& f, const MakeSampler& makeS
     const int tile = 16;
     tbb::parallel_for(tbb::blocked_range2d<int>(0, height, tile, 0, width, tile), [&](const tbb::blocked_range2d<int>& r) {
         auto sampler = makeSampler();
+        SamplePacket packet;
+        std::array<CameraSample, SamplePacket::kSize> seen;
         for (int y = r.rows().begin(); y != r.rows().end(); ++y)
-            for (int x = r.cols().begin(); x != r.cols().end(); ++x) {
-                const uint32_t pixel = uint32_t(y) * uint32_t(width) + uint32_t(x);
-                Vec3d colour(0.0);
-                double alpha = 0.0;
-                float depth = std::numeric_limits<float>::infinity();
+            for (int x0 = r.cols().begin(); x0 < r.cols().end(); x0 += SamplePacket::kSize) {
+                packet.count = std::min(SamplePacket::kSize, r.cols().end() - x0);
+                std::array<Vec3d, SamplePacket::kSize> colour;
+                std::array<double, SamplePacket::kSize> alpha;
+                std::array<float, SamplePacket::kSize> depth;
+                colour.fill(Vec3d(0.0));
+                alpha.fill(0.0);
+                depth.fill(std::numeric_limits<float>::infinity());
                 for (int sample = 0; sample < samplesPerPixel; ++sample) {
-                    SampleRandom random(uint32_t(f.frame), pixel, uint32_t(sample));
-                    // One sample at the pixel centre, the rest jittered over it.
-                    const double jx = samplesPerPixel == 1 ? 0.5 : random.next();
-                    const double jy = samplesPerPixel == 1 ? 0.5 : random.next();
-                    const CameraSample seen = sampler(f.camera.direction(x + jx, y + jy), random, pixel);
-                    colour += seen.radiance;
-                    alpha += seen.alpha;
-                    depth = std::min(depth, seen.depth);
+                    for (int lane = 0; lane < packet.count; ++lane) {
+                        const int x = x0 + lane;
+                        const uint32_t pixel = uint32_t(y) * uint32_t(width) + uint32_t(x);
+                        SampleRandom& random = packet.randoms[lane] = SampleRandom(uint32_t(f.frame), pixel, uint32_t(sample));
+                        // One sample at the pixel centre, the rest jittered over it.
+                        const double jx = samplesPerPixel == 1 ? 0.5 : random.next();
+                        const double jy = samplesPerPixel == 1 ? 0.5 : random.next();
+                        packet.dirs[lane] = f.camera.direction(x + jx, y + jy);
+                        packet.pixels[lane] = pixel;
+                    }
+                    sampler(packet, seen.data());
+                    for (int lane = 0; lane < packet.count; ++lane) {
+                        colour[lane] += seen[lane].radiance;
+                        alpha[lane] += seen[lane].alpha;
+                        depth[lane] = std::min(depth[lane], seen[lane].depth);
+                    }
                 }
                 const double n = samplesPerPixel;
-                float* out = &image.rgba[4 * std::size_t(pixel)];
-                out[0] = float(colour[0] / n);
-                out[1] = float(colour[1] / n);
-                out[2] = float(colour[2] / n);
-                out[3] = float(alpha / n);
-                image.depth[pixel] = depth;
+                for (int lane = 0; lane < packet.count; ++lane) {
+                    const uint32_t pixel = packet.pixels[lane];
+                    float* out = &image.rgba[4 * std::size_t(pixel)];
+                    out[0] = float(colour[lane][0] / n);
+                    out[1] = float(colour[lane][1] / n);
+                    out[2] = float(colour[lane][2] / n);
+                    out[3] = float(alpha[lane] / n);
+                    image.depth[pixel] = depth[lane];
+                }
             }
         progress.add(r.rows().size() * r.cols().size());
     });
     return image;
+}
+
+/// renderCameraPackets for a sampler of one sample at a time:
+/// makeSampler() returns a callable
+/// CameraSample(const Vec3d& dir, SampleRandom& random, uint32_t pixel).
+template<typename MakeSampler>
+RenderImage renderCameraSamples(const FrameToRender& f, const MakeSampler& makeSampler)
+{
+    return renderCameraPackets(f, [&] {
+        return [sampler = makeSampler()](SamplePacket& packet, CameraSample* seen) mutable {
+            for (int lane = 0; lane < packet.count; ++lane)
+                seen[lane] = sampler(packet.dirs[lane], packet.randoms[lane], packet.pixels[lane]);
+        };
+    });
 }
 
 } // namespace vfield

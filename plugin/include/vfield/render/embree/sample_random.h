@@ -10,6 +10,7 @@ namespace vfield {
 
 class SampleRandom {
 public:
+    SampleRandom() = default; ///< a placeholder, to be assigned a sample's stream
     SampleRandom(uint32_t frame, uint32_t pixel, uint32_t sample)
         : mState(hash(hash(hash(frame) ^ pixel) ^ (uint64_t(sample) << 32)))
     {}
@@ -26,7 +27,7 @@ private:
         x ^= x >> 33;
         return x;
     }
-    uint64_t mState;
+    uint64_t mState = 0;
 };
 
 } // namespace vfield
