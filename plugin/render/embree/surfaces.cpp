@@ -235,11 +235,16 @@ void setLane(Ray8& ray, int lane, const Vec3d& origin, const Vec3d& dir, double 
     ray.time[lane] = 0.0f;
 }
 
-void checkPacket(int count)
+/// The context of a packet of count rays, coherent ones.
+RTCIntersectContext packetContext(int count)
 {
     if (count < 0 || count > SurfaceScene::kPacket)
         throw ValueError("a packet of " + std::to_string(count) + " rays (at most " + std::to_string(SurfaceScene::kPacket) +
                          ")");
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    return context;
 }
 
 } // namespace
@@ -247,10 +252,7 @@ void checkPacket(int count)
 void SurfaceScene::intersect(const Vec3d* origins, const Vec3d* dirs, int count, double tMin, double tMax, SurfaceHit* hits,
                              bool* found) const
 {
-    checkPacket(count);
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    RTCIntersectContext context = packetContext(count);
     alignas(32) PacketLanes valid{};
     alignas(32) RTCRayHit8 rh{};
     for (int lane = 0; lane < count; ++lane) {
@@ -270,10 +272,7 @@ void SurfaceScene::intersect(const Vec3d* origins, const Vec3d* dirs, int count,
 void SurfaceScene::occluded(const Vec3d* origins, const Vec3d* dirs, const bool* active, int count, double tMin, double tMax,
                             bool* blocked) const
 {
-    checkPacket(count);
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    RTCIntersectContext context = packetContext(count);
     alignas(32) PacketLanes valid{};
     alignas(32) RTCRay8 ray{};
     bool any = false;
