@@ -89,55 +89,54 @@ RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler&
     // thread count.
     constexpr int kTileRows = 16, kTileBlocks = 2;
     const int blocks = (width + SamplePacket::kSize - 1) / SamplePacket::kSize;
-    tbb::parallel_for(tbb::blocked_range2d<int>(0, height, kTileRows, 0, blocks, kTileBlocks),
-                      [&](const tbb::blocked_range2d<int>& r) {
-                          auto sampler = makeSampler();
-                          SamplePacket packet;
-                          std::array<CameraSample, SamplePacket::kSize> seen;
-                          std::size_t pixels = 0;
-                          for (int y = r.rows().begin(); y != r.rows().end(); ++y)
-                              for (int block = r.cols().begin(); block != r.cols().end(); ++block) {
-                                  const int x0 = block * SamplePacket::kSize;
-                                  packet.count = std::min(SamplePacket::kSize, width - x0);
-                                  pixels += std::size_t(packet.count);
-                                  std::array<Vec3d, SamplePacket::kSize> colour;
-                                  std::array<double, SamplePacket::kSize> alpha;
-                                  std::array<float, SamplePacket::kSize> depth;
-                                  colour.fill(Vec3d(0.0));
-                                  alpha.fill(0.0);
-                                  depth.fill(std::numeric_limits<float>::infinity());
-                                  for (int sample = 0; sample < samplesPerPixel; ++sample) {
-                                      for (int lane = 0; lane < packet.count; ++lane) {
-                                          const int x = x0 + lane;
-                                          const uint32_t pixel = uint32_t(y) * uint32_t(width) + uint32_t(x);
-                                          SampleRandom& random = packet.randoms[lane] =
-                                              SampleRandom(uint32_t(f.frame), pixel, uint32_t(sample));
-                                          // One sample at the pixel centre, the rest jittered over it.
-                                          const double jx = samplesPerPixel == 1 ? 0.5 : random.next();
-                                          const double jy = samplesPerPixel == 1 ? 0.5 : random.next();
-                                          packet.dirs[lane] = f.camera.direction(x + jx, y + jy);
-                                          packet.pixels[lane] = pixel;
-                                      }
-                                      sampler(packet, seen.data());
-                                      for (int lane = 0; lane < packet.count; ++lane) {
-                                          colour[lane] += seen[lane].radiance;
-                                          alpha[lane] += seen[lane].alpha;
-                                          depth[lane] = std::min(depth[lane], seen[lane].depth);
-                                      }
-                                  }
-                                  const double n = samplesPerPixel;
-                                  for (int lane = 0; lane < packet.count; ++lane) {
-                                      const uint32_t pixel = packet.pixels[lane];
-                                      float* out = &image.rgba[4 * std::size_t(pixel)];
-                                      out[0] = float(colour[lane][0] / n);
-                                      out[1] = float(colour[lane][1] / n);
-                                      out[2] = float(colour[lane][2] / n);
-                                      out[3] = float(alpha[lane] / n);
-                                      image.depth[pixel] = depth[lane];
-                                  }
-                              }
-                          progress.add(pixels);
-                      });
+    const auto renderTile = [&](const tbb::blocked_range2d<int>& r) {
+        auto sampler = makeSampler();
+        SamplePacket packet;
+        std::array<CameraSample, SamplePacket::kSize> seen;
+        std::size_t pixels = 0;
+        for (int y = r.rows().begin(); y != r.rows().end(); ++y)
+            for (int block = r.cols().begin(); block != r.cols().end(); ++block) {
+                const int x0 = block * SamplePacket::kSize;
+                packet.count = std::min(SamplePacket::kSize, width - x0);
+                pixels += std::size_t(packet.count);
+                std::array<Vec3d, SamplePacket::kSize> colour;
+                std::array<double, SamplePacket::kSize> alpha;
+                std::array<float, SamplePacket::kSize> depth;
+                colour.fill(Vec3d(0.0));
+                alpha.fill(0.0);
+                depth.fill(std::numeric_limits<float>::infinity());
+                for (int sample = 0; sample < samplesPerPixel; ++sample) {
+                    for (int lane = 0; lane < packet.count; ++lane) {
+                        const int x = x0 + lane;
+                        const uint32_t pixel = uint32_t(y) * uint32_t(width) + uint32_t(x);
+                        SampleRandom& random = packet.randoms[lane] = SampleRandom(uint32_t(f.frame), pixel, uint32_t(sample));
+                        // One sample at the pixel centre, the rest jittered over it.
+                        const double jx = samplesPerPixel == 1 ? 0.5 : random.next();
+                        const double jy = samplesPerPixel == 1 ? 0.5 : random.next();
+                        packet.dirs[lane] = f.camera.direction(x + jx, y + jy);
+                        packet.pixels[lane] = pixel;
+                    }
+                    sampler(packet, seen.data());
+                    for (int lane = 0; lane < packet.count; ++lane) {
+                        colour[lane] += seen[lane].radiance;
+                        alpha[lane] += seen[lane].alpha;
+                        depth[lane] = std::min(depth[lane], seen[lane].depth);
+                    }
+                }
+                const double n = samplesPerPixel;
+                for (int lane = 0; lane < packet.count; ++lane) {
+                    const uint32_t pixel = packet.pixels[lane];
+                    float* out = &image.rgba[4 * std::size_t(pixel)];
+                    out[0] = float(colour[lane][0] / n);
+                    out[1] = float(colour[lane][1] / n);
+                    out[2] = float(colour[lane][2] / n);
+                    out[3] = float(alpha[lane] / n);
+                    image.depth[pixel] = depth[lane];
+                }
+            }
+        progress.add(pixels);
+    };
+    tbb::parallel_for(tbb::blocked_range2d<int>(0, height, kTileRows, 0, blocks, kTileBlocks), renderTile);
     return image;
 }
 
