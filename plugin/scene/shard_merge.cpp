@@ -171,14 +171,7 @@ SimulateSummary mergeShards(const Scene& scene, const std::string& outputDir, in
                                                    std::to_string(particles.size()) + " particles, their records " +
                                                    std::to_string(record.alive));
             record.stages.write += stageWatch.lap(); // reading the shards' files, as the files' stage
-            SplatSeconds splat;
-            const DensityGrids volume = splatParticles(particles, scene.volume, &splat);
-            stageWatch.lap();
-            record.stages.splat += splat.splat;
-            record.stages.detail += splat.detail;
-            record.files =
-                folder.writeFrame(frame, volume, makeParticleGrid(particles, scene.volume.particlePrecision), run.inputsHash);
-            record.stages.write += stageWatch.lap();
+            record.files = folder.writeFrame(frame, particles, scene.volume, run.inputsHash, record.stages);
         }
         record.seconds += frameWatch.seconds();
         summary.stages += record.stages;

@@ -4,7 +4,11 @@
 #include <vfield/core/error.h>
 #include <vfield/core/frame_file.h>
 #include <vfield/core/hash.h>
+#include <vfield/core/stopwatch.h>
 #include <vfield/core/vdb_file.h>
+#include <vfield/volume/particle_grid.h>
+
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <cmath>
@@ -110,15 +114,29 @@ bool SimFolder::hasRunState() const { return fs::exists(stateFile()); }
 
 RunState SimFolder::readRunState() const { return runStateFromBytes(readFileBytes(stateFile()), stateFile()); }
 
-FrameFiles SimFolder::writeFrame(int frame, const DensityGrids& volume, const openvdb::GridBase::Ptr& particles,
-                                 uint64_t inputsHash) const
+FrameFiles SimFolder::writeFrame(int frame, const ParticleSet& particles, const VolumeOptions& volume, uint64_t inputsHash,
+                                 StageSeconds& stages) const
 {
+    const Stopwatch watch;
     openvdb::MetaMap metadata;
     metadata.insertMeta(kInputsHashKey, openvdb::StringMetadata(hashText(inputsHash)));
     metadata.insertMeta(kFrameKey, openvdb::Int32Metadata(frame));
-    writeVdb(densityFile(frame), {volume.density, volume.velocity}, metadata);
-    writeVdb(particlesFile(frame), {particles}, metadata);
-    return {fingerprint(densityFile(frame)), fingerprint(particlesFile(frame))};
+    SplatSeconds splat;
+    FrameFiles files;
+    tbb::parallel_invoke(
+        [&] {
+            const DensityGrids grids = splatParticles(particles, volume, &splat);
+            writeVdb(densityFile(frame), {grids.density, grids.velocity}, metadata);
+            files.density = fingerprint(densityFile(frame));
+        },
+        [&] {
+            writeVdb(particlesFile(frame), {makeParticleGrid(particles, volume.particlePrecision)}, metadata);
+            files.particles = fingerprint(particlesFile(frame));
+        });
+    stages.splat += splat.splat;
+    stages.detail += splat.detail;
+    stages.write += std::max(0.0, watch.seconds() - splat.splat - splat.detail);
+    return files;
 }
 
 FrameFiles SimFolder::writeParticles(int frame, const openvdb::GridBase::Ptr& particles, uint64_t inputsHash) const

@@ -276,14 +276,7 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
                 record.frame, makeParticleGrid(simulator.particles(), ParticlePrecision::Full, true), run.inputsHash);
             record.stages.write = stageWatch.lap();
         } else if (record.frame >= writeFirst && !part) {
-            SplatSeconds splat;
-            const DensityGrids volume = splatParticles(simulator.particles(), scene.volume, &splat);
-            stageWatch.lap();
-            record.stages.splat = splat.splat;
-            record.stages.detail = splat.detail;
-            record.files = folder.writeFrame(
-                record.frame, volume, makeParticleGrid(simulator.particles(), scene.volume.particlePrecision), run.inputsHash);
-            record.stages.write = stageWatch.lap();
+            record.files = folder.writeFrame(record.frame, simulator.particles(), scene.volume, run.inputsHash, record.stages);
         }
         record.seconds = frameWatch.seconds();
         return record;

@@ -107,6 +107,9 @@ Simulator::Simulator(const SimulationSetup& setup, const Preparing& preparing) :
     mParticles = emitClouds(mSetup);
     for (const CloudSpec& cloud : mSetup.clouds) domain.expand(BBoxd(cloud.center - cloud.radii, cloud.center + cloud.radii));
     mDomain = mSetup.options.domain.value_or(domain);
+    // Emitted in random order; splats run about ten times faster over
+    // particles in spatial order, which advanceParticles keeps every few frames.
+    mParticles.sortSpatially(mDomain);
     mStatesAtFrameStart = mStates;
     updateRestPositions();
 

@@ -82,9 +82,8 @@ void BM_VolumeStage(benchmark::State& state)
     std::filesystem::create_directories(dir);
     const SimFolder folder(dir);
     const ParticleSet& particles = frame.simulator->particles();
-    for (auto _ : state)
-        folder.writeFrame(120, splatParticles(particles, frame.scene.volume),
-                          makeParticleGrid(particles, frame.scene.volume.particlePrecision), 0);
+    StageSeconds stages;
+    for (auto _ : state) folder.writeFrame(120, particles, frame.scene.volume, 0, stages);
     state.counters["particles"] = double(particles.size());
 }
 BENCHMARK(BM_VolumeStage)->Apply(mainJobCounts)->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -107,7 +106,7 @@ BENCHMARK(BM_Clearance)->Apply(mainJobCounts)->Unit(benchmark::kMillisecond)->Us
 /// as wide as the splat's kernel, its uniform density accumulated.
 void BM_RawOpenVdbSplat(benchmark::State& state)
 {
-    MainJobFrame& frame = mainJobAtFrame120(250'000);
+    MainJobFrame& frame = mainJobAtFrame120(kMainJobParticles);
     const VolumeOptions volume = frame.scene.volume.resolved(frame.scene.simulation.clouds[0].particleRadius);
     const ParticleSet& particles = frame.simulator->particles();
     openvdb::points::PointDataGrid::Ptr points =

@@ -138,7 +138,7 @@ int main(int argc, char** argv)
         const Samples& splat = r.time("BM_DensitySplat/particles:1000000");
         row({"density splat, 1M particles", spread(splat, "%.0f", "ms"), "", "", "<= 100 ms", verdict(splat.median() <= 100.0)});
         {
-            const Samples& stage = r.time("BM_VolumeStage/particles:250000");
+            const Samples& stage = r.time("BM_VolumeStage/particles:" + std::to_string(vfield::bench::kMainJobParticles));
             const Samples& raw = r.time("BM_RawOpenVdbSplat/detailVoxel:0");
             const double ratio = stage.median() / raw.median();
             row({"main job's volume stage, frame 120 (splat + detail + write)", spread(stage, "%.0f", "ms"),

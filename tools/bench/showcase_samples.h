@@ -1,5 +1,8 @@
 #pragma once
-// The showcase's own samples per pixel, shared by the benchmarks and their report.
+// The showcases' own settings that the benchmarks' rows are named by, shared
+// by the benchmarks and their report.
+
+#include <cstdint>
 
 namespace vfield::bench {
 
@@ -7,5 +10,9 @@ namespace vfield::bench {
 /// shading noise, drawn once a pixel, is shared by the pixel's samples.
 /// ShowcaseFrame checks that the scene still says so.
 constexpr int kShowcaseSamplesPerPixel = 3;
+
+/// scenes/cloud_bank.json's particle count (the main job's); mainJobAtFrame120
+/// checks that the scene still says so.
+constexpr int64_t kMainJobParticles = 1'000'000;
 
 } // namespace vfield::bench

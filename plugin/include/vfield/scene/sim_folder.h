@@ -74,10 +74,15 @@ public:
     bool hasRunState() const;
     RunState readRunState() const;
 
-    /// The frame's density and particle files, stamped with the simulation's
-    /// inputs hash and the frame; returns their fingerprints.
-    FrameFiles writeFrame(int frame, const DensityGrids& volume, const openvdb::GridBase::Ptr& particles,
-                          uint64_t inputsHash) const;
+    /// The frame's volume stage: the particles splatted (splatParticles with
+    /// volume) into the frame's density file while their grid
+    /// (makeParticleGrid at volume.particlePrecision) is built and written to
+    /// its particle file beside it, since OpenVDB writes a file on one
+    /// thread. Both files are stamped with the simulation's inputs hash and
+    /// the frame. Returns their fingerprints; adds to stages the splat's and
+    /// the detail's seconds, and the rest of the stage's as the writing's.
+    FrameFiles writeFrame(int frame, const ParticleSet& particles, const VolumeOptions& volume, uint64_t inputsHash,
+                          StageSeconds& stages) const;
     /// A shard's frame (shard_part.h): its particle file alone, stamped as writeFrame stamps it.
     FrameFiles writeParticles(int frame, const openvdb::GridBase::Ptr& particles, uint64_t inputsHash) const;
     /// The frame's particle grid, checked as readDensity checks its grid.

@@ -42,7 +42,9 @@ struct StageSeconds {
     double clearance = 0.0; ///< measuring every particle and object pair against the meshes
     double splat = 0.0;     ///< the particles' density and velocity grids
     double detail = 0.0;    ///< the density's noise detail and cutoff
-    double write = 0.0;     ///< the particle grid, the frame's files and their fingerprints
+    /// the files: the frame's volume stage beyond the splat and the detail
+    /// (the particle grid is built and written beside the splat: SimFolder::writeFrame)
+    double write = 0.0;
     StageSeconds& operator+=(const StageSeconds& o)
     {
         advection += o.advection;
