@@ -57,11 +57,15 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
     if (first < setup.firstFrame || last > setup.lastFrame || last < first)
         throw ValueError("frames " + std::to_string(first) + "-" + std::to_string(last) + " are not within the scene's " +
                          std::to_string(setup.firstFrame) + "-" + std::to_string(setup.lastFrame));
-    if (!fs::is_directory(simulationDir)) throw FileError(simulationDir, "no such simulation folder");
-    const FolderLock lock(outputDir, "vfield render", options.waitForFolder);
-    const SimFolder simulation(simulationDir);
     const RenderSettings& settings = scene.render;
     settings.validate();
+    const FolderLock lock(outputDir, "vfield render", options.waitForFolder);
+    const auto waitForFrame = [&](int frame) {
+        if (options.waitForFrame) options.waitForFrame(frame);
+    };
+    waitForFrame(first);
+    if (!fs::is_directory(simulationDir)) throw FileError(simulationDir, "no such simulation folder");
+    const SimFolder simulation(simulationDir);
     // Every frame rendered must have been made by the folder's simulation.
     const uint64_t inputsHash = simulation.readStats().inputsHash;
 
@@ -82,7 +86,8 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
         }
         materials[int(i)] = surfaceMaterialOf(object);
     }
-    const Tracks tracks = anyDynamic ? simulation.readTracks() : Tracks();
+    // Read again for each frame while the simulation is still writing them.
+    Tracks tracks = anyDynamic ? simulation.readTracks() : Tracks();
     BBoxd terrainHeights(Vec3d(0.0), Vec3d(1.0));
     if (!surfaces.staticBounds().empty()) terrainHeights = surfaces.staticBounds();
 
@@ -126,6 +131,8 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
     bool prepared = false;
     const int total = last - first + 1;
     for (int f = first; f <= last; ++f) {
+        waitForFrame(f);
+        if (anyDynamic && options.waitForFrame && f > first) tracks = simulation.readTracks();
         // Finished: rendered with these settings, and every output exists and
         // is newer than the frame's simulation (a frame simulated again since,
         // after an edit of the scene, is stale).

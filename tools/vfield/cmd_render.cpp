@@ -9,6 +9,7 @@
 #include <vfield/scene/host_scene.h>
 #include <vfield/scene/render_backends.h>
 #include <vfield/scene/render_run.h>
+#include <vfield/scene/scene_run.h>
 #include <vfield/scene/sim_folder.h>
 #include <vfield/scene/simulation_run.h>
 
@@ -69,21 +70,15 @@ RenderRunOptions toRunOptions(const RenderCliOptions& o, const CLI::App& command
     return options;
 }
 
-void renderWithProgress(const Scene& scene, const std::string& simDir, const std::string& output, RenderRunOptions options,
-                        bool waitForFolders, const GlobalOptions& global)
+/// Warnings logged, and the output folder waited for when asked.
+void reportRenderWarnings(RenderRunOptions& options, bool waitForFolders, const GlobalOptions& global, const std::string& output)
 {
     options.warning = [&global](const std::string& line) { log(global, "warning: " + line); };
     options.waitForFolder = folderWaiting(waitForFolders, global, output);
-    ProgressLine progress(global.quiet);
-    options.progress = [&progress](int frame, int done, int total, double seconds) {
-        progress.update(done, total, seconds, "(rendered frame " + std::to_string(frame) + ")");
-    };
-    const Stopwatch watch;
-    options.frameProgress = [&progress, &watch](int frame, int done, int total, double fraction) {
-        progress.update(done + fraction, total, watch.seconds(),
-                        "(rendering frame " + std::to_string(frame) + ": " + std::to_string(int(100.0 * fraction)) + "%)");
-    };
-    const RenderRunSummary summary = renderScene(scene, simDir, output, options);
+}
+
+void reportRendered(const RenderRunSummary& summary, const GlobalOptions& global)
+{
     char line[240];
     std::snprintf(line, sizeof line, "rendered %d frames (%.3f s each), skipped %d already complete", summary.rendered,
                   summary.secondsPerFrame, summary.skipped);
@@ -103,6 +98,21 @@ void renderWithProgress(const Scene& scene, const std::string& simDir, const std
         }
         log(global, "seconds per frame: " + parts);
     }
+}
+
+void renderWithProgress(const Scene& scene, const std::string& simDir, const std::string& output, RenderRunOptions options,
+                        bool waitForFolders, const GlobalOptions& global)
+{
+    reportRenderWarnings(options, waitForFolders, global, output);
+    ProgressLine progress(global.quiet);
+    options.progress = [&progress](int frame, int done, int total, double seconds) {
+        progress.update(done, total, seconds, "(rendered frame " + std::to_string(frame) + ")");
+    };
+    const Stopwatch watch;
+    options.frameProgress = [&progress, &watch](int frame, int done, int total, double fraction) {
+        progress.update(done + fraction, total, watch.seconds(), "(" + renderingFrame(frame, fraction) + ")");
+    };
+    reportRendered(renderScene(scene, simDir, output, options), global);
 }
 
 } // namespace
@@ -147,21 +157,22 @@ Runner registerRun(CLI::App& app, const GlobalOptions& global)
     return [o, command, &global] {
         const auto threads = limitThreads(o->render.threads);
         const Scene scene = loadScene(o->scene);
-        const RenderRunOptions options = toRunOptions(o->render, *command);
+        RenderRunOptions render = toRunOptions(o->render, *command);
+        reportRenderWarnings(render, o->render.wait, global, o->output);
         SimulateOptions simulate;
         simulate.maxMemoryBytes = o->maxMemory;
-        simulate.firstFrame = options.firstFrame;
-        simulate.lastFrame = options.lastFrame;
+        simulate.firstFrame = render.firstFrame;
+        simulate.lastFrame = render.lastFrame;
         simulate.waitForFolder = folderWaiting(o->render.wait, global, o->output + "/sim");
-        {
-            ProgressLine progress(global.quiet);
-            showSimulationProgress(simulate, progress, "simulated frame");
-            const SimulateSummary summary = simulateScene(scene, o->output + "/sim", simulate);
-            if (summary.resimulatedFrom >= 0)
-                log(global, "frame " + std::to_string(summary.resimulatedFrom) + " was not as written (" +
-                                summary.resimulatedBecause + "): simulated again from there");
-        }
-        renderWithProgress(scene, o->output + "/sim", o->output, options, o->render.wait, global);
+
+        RunProgress progress(global.quiet, render.lastFrame.value_or(scene.simulation.lastFrame) -
+                                               render.firstFrame.value_or(scene.simulation.firstFrame) + 1);
+        progress.attach(simulate, render);
+        const SceneRunSummary summary = runScene(scene, o->output, simulate, render);
+        if (summary.simulation.resimulatedFrom >= 0)
+            log(global, "frame " + std::to_string(summary.simulation.resimulatedFrom) + " was not as written (" +
+                            summary.simulation.resimulatedBecause + "): simulated again from there");
+        reportRendered(summary.render, global);
     };
 }
 

@@ -1,5 +1,6 @@
 #include "progress.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <unistd.h>
 #include <utility>
@@ -15,13 +16,14 @@ ProgressLine::~ProgressLine()
     if (mOpenLine) std::fputc('\n', stderr);
 }
 
-void ProgressLine::update(double done, int total, double elapsed, const std::string& detail)
+void ProgressLine::update(double done, int total, double elapsed, const std::string& detail, std::optional<double> fractionDone)
 {
     if (mQuiet) return;
+    const double fraction = fractionDone.value_or(total > 0 ? done / total : 0.0);
     // Nothing done yet: no rate to tell the rest by.
     char eta[32] = "ETA -:--";
-    if (done > 0) {
-        const int seconds = int(elapsed / done * (total - done) + 0.5);
+    if (fraction > 0) {
+        const int seconds = int(elapsed / fraction * (1.0 - fraction) + 0.5);
         std::snprintf(eta, sizeof eta, "ETA %d:%02d", seconds / 60, seconds % 60);
     }
     std::fprintf(stderr, "%s%s %d/%d  %s  elapsed %.1fs  %s%s", mIsTerminal ? "\r\033[K" : "", mUnit.c_str(), int(done), total,
@@ -46,6 +48,48 @@ void showSimulationProgress(SimulateOptions& options, ProgressLine& progress, co
         progress.update(p.done, p.total, p.elapsedSeconds,
                         "(" + frameWord + " " + std::to_string(p.frame) + ", " + std::to_string(p.alive) + " particles)");
     };
+}
+
+std::string renderingFrame(int frame, double fraction)
+{
+    return "rendering frame " + std::to_string(frame) + ": " + std::to_string(int(100.0 * fraction)) + "%";
+}
+
+RunProgress::RunProgress(bool quiet, int frames) : mLine(quiet), mFrames(std::max(frames, 1)) {}
+
+void RunProgress::attach(SimulateOptions& simulate, RenderRunOptions& render)
+{
+    simulate.preparing = [this](const std::string& step) {
+        const std::lock_guard<std::mutex> lock(mMutex);
+        mLine.step("preparing: " + step);
+    };
+    simulate.progress = [this](const FrameProgress& p) {
+        const std::lock_guard<std::mutex> lock(mMutex);
+        mSimulatedShare = p.total > 0 ? double(p.done) / p.total : 1.0;
+        mSimulating = "frame " + std::to_string(p.frame) + ", " + std::to_string(p.alive) + " particles";
+        show();
+    };
+    render.progress = [this](int frame, int done, int, double) {
+        const std::lock_guard<std::mutex> lock(mMutex);
+        mRendered = done;
+        mRenderedShare = double(done) / mFrames;
+        mRendering = "rendered frame " + std::to_string(frame);
+        show();
+    };
+    render.frameProgress = [this](int frame, int done, int, double fraction) {
+        const std::lock_guard<std::mutex> lock(mMutex);
+        mRendered = done;
+        mRenderedShare = (done + fraction) / mFrames;
+        mRendering = renderingFrame(frame, fraction);
+        show();
+    };
+}
+
+void RunProgress::show()
+{
+    if (!mSinceFirstFrame) mSinceFirstFrame.emplace();
+    mLine.update(mRendered, mFrames, mSinceFirstFrame->seconds(), "(simulated: " + mSimulating + "; " + mRendering + ")",
+                 0.5 * (mSimulatedShare + mRenderedShare));
 }
 
 } // namespace vfield::cli

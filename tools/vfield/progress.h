@@ -4,8 +4,11 @@
 // stay readable. Silent with --quiet.
 
 #include <vfield/core/stopwatch.h>
+#include <vfield/scene/render_run.h>
 #include <vfield/scene/simulation_run.h>
 
+#include <mutex>
+#include <optional>
 #include <string>
 
 namespace vfield::cli {
@@ -16,8 +19,11 @@ public:
     explicit ProgressLine(bool quiet, std::string unit = "frame");
     ~ProgressLine();
     /// done of total finished after elapsed seconds (done may hold the part
-    /// of the next one done, for the ETA); detail is appended.
-    void update(double done, int total, double elapsedSeconds, const std::string& detail);
+    /// of the next one done, for the ETA); detail is appended. The ETA comes
+    /// from the fraction of the work done: done / total unless given (two
+    /// stages running together, `vfield run`).
+    void update(double done, int total, double elapsedSeconds, const std::string& detail,
+                std::optional<double> fractionDone = std::nullopt);
     /// A step before the counting starts ("terrain: octree field ..."), with
     /// the seconds since this line was made.
     void step(const std::string& what);
@@ -32,5 +38,30 @@ private:
 /// Shows a simulation's preparing steps, then its frames ("(frame 12, 250000
 /// particles)"; frameWord: "frame", or "simulated frame" where images follow).
 void showSimulationProgress(SimulateOptions& options, ProgressLine& progress, const std::string& frameWord);
+
+/// "rendering frame 12: 40%".
+std::string renderingFrame(int frame, double fraction);
+
+/// One line for a simulation and the render following it (`vfield run`,
+/// scene_run.h), told from both stages' threads: the frames rendered, what
+/// each stage is at, and the ETA from both stages' share of their frames,
+/// timed from the first frame as `simulate` and `render` time theirs.
+class RunProgress {
+public:
+    /// frames: how many the render is to finish.
+    RunProgress(bool quiet, int frames);
+    /// Sets both options' progress callbacks to this line; it must outlive the run.
+    void attach(SimulateOptions& simulate, RenderRunOptions& render);
+
+private:
+    void show(); // with mMutex held
+
+    std::mutex mMutex;
+    ProgressLine mLine;
+    int mFrames, mRendered = 0;
+    double mSimulatedShare = 0.0, mRenderedShare = 0.0;
+    std::string mSimulating = "preparing", mRendering = "waiting";
+    std::optional<Stopwatch> mSinceFirstFrame;
+};
 
 } // namespace vfield::cli

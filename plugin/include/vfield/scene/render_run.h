@@ -47,6 +47,11 @@ struct RenderRunOptions {
     /// process writes it, this is called with who, and the run waits for it;
     /// unset: the run is refused at once.
     FolderLock::Waiting waitForFolder;
+    /// Called with each frame before its files are first read (the first
+    /// frame's also before stats.json is), returning once the simulation
+    /// folder holds it: how runScene follows a simulation as it is written.
+    /// Unset: the folder is complete.
+    std::function<void(int frame)> waitForFrame;
 };
 
 struct RenderRunSummary {
