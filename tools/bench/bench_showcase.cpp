@@ -101,6 +101,13 @@ MainJobFrame& mainJobAtFrame120(int64_t particles)
     MainJobFrame& job = cache[particles];
     if (!job.simulator) {
         job.scene = loadScene(VFIELD_SCENES_DIR "/cloud_bank.json");
+        const int64_t sceneParticles = job.scene.simulation.clouds[0].count;
+        if (sceneParticles != kMainJobParticles)
+            throw std::runtime_error("cloud_bank.json has " + std::to_string(sceneParticles) + " particles, the benchmarks " +
+                                     std::to_string(kMainJobParticles) + ": update kMainJobParticles");
+        // The cloud's mass kept, as a user changing its count would: the
+        // same density from more or fewer particles.
+        job.scene.volume.densityPerParticle *= double(sceneParticles) / double(particles);
         job.scene.simulation.clouds[0].count = particles;
         job.simulator = std::make_unique<Simulator>(job.scene.simulation);
         while (job.simulator->frame() < 120) job.simulator->advanceFrame();

@@ -45,7 +45,8 @@ struct ShowcaseFrame {
 ShowcaseFrame& showcase();
 
 /// The main job (scenes/cloud_bank.json) at frame 120, its bank on the
-/// ridge, with `particles` particles; simulated once per count. The terrain's
+/// ridge, with `particles` particles (each as dense as the scene's cloud's
+/// mass shared among them); simulated once per count. The terrain's
 /// surfaces are built once and shared.
 struct MainJobFrame {
     Scene scene;
