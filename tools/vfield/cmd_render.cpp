@@ -70,8 +70,9 @@ RenderRunOptions toRunOptions(const RenderCliOptions& o, const CLI::App& command
     return options;
 }
 
-/// Warnings logged, and the output folder waited for when asked.
-void reportRenderWarnings(RenderRunOptions& options, bool waitForFolders, const GlobalOptions& global, const std::string& output)
+/// The render's warnings logged, and its output folder waited for when --wait asks.
+void logWarningsAndWaitForFolder(RenderRunOptions& options, bool waitForFolders, const GlobalOptions& global,
+                                 const std::string& output)
 {
     options.warning = [&global](const std::string& line) { log(global, "warning: " + line); };
     options.waitForFolder = folderWaiting(waitForFolders, global, output);
@@ -103,7 +104,7 @@ void reportRendered(const RenderRunSummary& summary, const GlobalOptions& global
 void renderWithProgress(const Scene& scene, const std::string& simDir, const std::string& output, RenderRunOptions options,
                         bool waitForFolders, const GlobalOptions& global)
 {
-    reportRenderWarnings(options, waitForFolders, global, output);
+    logWarningsAndWaitForFolder(options, waitForFolders, global, output);
     ProgressLine progress(global.quiet);
     options.progress = [&progress](int frame, int done, int total, double seconds) {
         progress.update(done, total, seconds, "(rendered frame " + std::to_string(frame) + ")");
@@ -158,7 +159,7 @@ Runner registerRun(CLI::App& app, const GlobalOptions& global)
         const auto threads = limitThreads(o->render.threads);
         const Scene scene = loadScene(o->scene);
         RenderRunOptions render = toRunOptions(o->render, *command);
-        reportRenderWarnings(render, o->render.wait, global, o->output);
+        logWarningsAndWaitForFolder(render, o->render.wait, global, o->output);
         SimulateOptions simulate;
         simulate.maxMemoryBytes = o->maxMemory;
         simulate.firstFrame = render.firstFrame;
