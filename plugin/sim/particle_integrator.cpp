@@ -140,6 +140,8 @@ bool Simulator::resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t,
         // space whose carried bound clears the path, decided as below but
         // before any pose is looked up (one path for all, with the poses
         // made only for dynamic objects, ran 4% more instructions a substep).
+        // The particle loop makes this test before calling, for all
+        // surfaces at once when every one is such.
         if (!isDynamic && inWorld) {
             const double travel = std::sqrt(3.0) * (x - from).length();
             if (bound - travel >= 0.5 * skin) {
@@ -234,6 +236,16 @@ void Simulator::advanceParticles(double t0, double t1)
     if (mKeptBounds.id.size() != n || mKeptBounds.bound.size() != n * contacts) // a new cloud: nothing carried
         mKeptBounds = {std::vector<uint32_t>(n), std::vector<double>(n * contacts, -std::numeric_limits<double>::infinity())};
 
+    // Static surfaces in world space (terrain, as a rule) clear most
+    // substeps by their carried bounds alone: decided in the loop, before
+    // resolveContacts, when every contact surface is one.
+    std::vector<double> halfSkins;
+    bool contactsStaticInWorld = true;
+    for (const std::size_t i : mContact) {
+        halfSkins.push_back(0.5 * mObjects[i].distance->voxelSize());
+        contactsStaticInWorld = contactsStaticInWorld && mWorldIsObject[i];
+    }
+
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& range) {
         std::vector<RepulsionField::Accessor> accessors;
         for (const std::size_t i : mRepulsive) accessors.push_back(mObjects[i].field->accessor());
@@ -277,7 +289,13 @@ void Simulator::advanceParticles(double t0, double t1)
                     drag.step(x, v, a, dt);
                 }
                 if (!mContact.empty()) {
-                    if (resolveContacts(from, x, v, t, dt, distances, lowerBounds)) ++counts.contacts;
+                    // resolveContacts' first test, for all surfaces at once.
+                    const double travel = std::sqrt(3.0) * (x - from).length();
+                    bool cleared = contactsStaticInWorld;
+                    for (std::size_t k = 0; k < contacts && cleared; ++k) cleared = lowerBounds[k] - travel >= halfSkins[k];
+                    if (cleared)
+                        for (double& bound : lowerBounds) bound -= travel;
+                    else if (resolveContacts(from, x, v, t, dt, distances, lowerBounds)) ++counts.contacts;
                     // A bound at or above zero says outside, as a read would: most substeps read nothing.
                     const bool mayEndInside =
                         std::any_of(lowerBounds.begin(), lowerBounds.end(), [](double bound) { return !(bound >= 0.0); });
@@ -293,8 +311,10 @@ void Simulator::advanceParticles(double t0, double t1)
             }
             mParticles.position[p] = Vec3f(x);
             mParticles.velocity[p] = Vec3f(v);
-            // The next frame starts from the stored (rounded) position: its bounds are that much lower.
-            const double rounding = std::sqrt(3.0) * (Vec3d(mParticles.position[p]) - x).length();
+            // The next frame starts from the stored (rounded) position: its
+            // bounds are that much lower (sqrt(3) |d| <= 3 max |d_i|, no square root).
+            const Vec3d rounded = Vec3d(mParticles.position[p]) - x;
+            const double rounding = 3.0 * std::max({std::abs(rounded.x()), std::abs(rounded.y()), std::abs(rounded.z())});
             mKeptBounds.id[p] = mParticles.id[p];
             for (std::size_t k = 0; k < contacts; ++k) mKeptBounds.bound[p * contacts + k] = lowerBounds[k] - rounding;
             mParticles.peak[p] = std::max(mParticles.peak[p], mParticles.position[p].y());
