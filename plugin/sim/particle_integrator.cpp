@@ -36,6 +36,14 @@ Vec3d objectPoint(const Transform& pose, const Vec3d& world)
     return isRotated(pose) ? pose.objectFromWorld(world) : (world - pose.translation) / pose.scale;
 }
 
+/// The most a trilinear read of a distance grid changes between two points
+/// `move` apart: |move_x| + |move_y| + |move_z|, since each axis's slope is
+/// a blend of neighbouring voxels' differences, at most one voxel a voxel for
+/// a distance. Never above sqrt(3) |move| (equal along a diagonal, sqrt(3)
+/// times less along an axis), and without a square root: the test every
+/// substep of every particle makes.
+double readChangeBound(const Vec3d& move) { return std::abs(move.x()) + std::abs(move.y()) + std::abs(move.z()); }
+
 } // namespace
 
 Vec3d Simulator::uniformAcceleration(const UniformFields& fields, const Vec3d& p) const
@@ -143,7 +151,7 @@ bool Simulator::resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t,
         // The particle loop makes this test before calling, for all
         // surfaces at once when every one is such.
         if (!isDynamic && inWorld) {
-            const double travel = std::sqrt(3.0) * (x - from).length();
+            const double travel = readChangeBound(x - from);
             if (bound - travel >= 0.5 * skin) {
                 bound -= travel;
                 continue;
@@ -154,11 +162,10 @@ bool Simulator::resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t,
         const Transform& after = isDynamic ? (moving[1] = poseAt(i, t + dt)) : before;
         // The substep's path as the object sees it, sampled a voxel apart.
         const Vec3d a = inWorld ? from : objectPoint(before, from), b = inWorld ? x : objectPoint(after, x);
-        // Trilinear reads of a distance change by at most sqrt(3) per unit:
-        // a path starting this far out cannot come within half a voxel (most
+        // A path starting this far out cannot come within half a voxel (most
         // substeps, at one read instead of one per voxel of the path, or none
         // while a static object's carried bound is far enough out).
-        const double travel = std::sqrt(3.0) * (b - a).length();
+        const double travel = readChangeBound(b - a);
         if (isDynamic) bound = -std::numeric_limits<double>::infinity(); // it moved: unknown
         // What the rest would decide, at no read.
         if (bound - travel >= 0.5 * skin) {
@@ -290,7 +297,7 @@ void Simulator::advanceParticles(double t0, double t1)
                 }
                 if (!mContact.empty()) {
                     // resolveContacts' first test, for all surfaces at once.
-                    const double travel = std::sqrt(3.0) * (x - from).length();
+                    const double travel = readChangeBound(x - from);
                     bool cleared = contactsStaticInWorld;
                     for (std::size_t k = 0; k < contacts && cleared; ++k) cleared = lowerBounds[k] - travel >= halfSkins[k];
                     if (cleared)
@@ -312,9 +319,8 @@ void Simulator::advanceParticles(double t0, double t1)
             mParticles.position[p] = Vec3f(x);
             mParticles.velocity[p] = Vec3f(v);
             // The next frame starts from the stored (rounded) position: its
-            // bounds are that much lower (sqrt(3) |d| <= 3 max |d_i|, no square root).
-            const Vec3d rounded = Vec3d(mParticles.position[p]) - x;
-            const double rounding = 3.0 * std::max({std::abs(rounded.x()), std::abs(rounded.y()), std::abs(rounded.z())});
+            // bounds are that much lower.
+            const double rounding = readChangeBound(Vec3d(mParticles.position[p]) - x);
             mKeptBounds.id[p] = mParticles.id[p];
             for (std::size_t k = 0; k < contacts; ++k) mKeptBounds.bound[p * contacts + k] = lowerBounds[k] - rounding;
             mParticles.peak[p] = std::max(mParticles.peak[p], mParticles.position[p].y());

@@ -178,7 +178,7 @@ private:
     /// distance read where the particle starts, or -infinity: a static
     /// object's bound is carried from substep to substep (and, through
     /// mKeptBounds, from frame to frame), since reads change
-    /// by at most sqrt(3) per unit moved, so that substeps far from its
+    /// by at most |dx| + |dy| + |dz| over a move d, so that substeps far from its
     /// surface read nothing and decide as a read would.
     bool resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t, double dt,
                          std::vector<MeshDistance::Accessor>& accessors, std::vector<double>& lowerBounds) const;
