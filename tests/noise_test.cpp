@@ -139,6 +139,27 @@ TEST_CASE("noise: four values at once are the scalar noise's bit for bit, on lat
     CHECK(differing == 0);
 }
 
+TEST_CASE("noise: four samples at once are the scalar samples bit for bit, value and gradient", "[noise]")
+{
+    const GradientNoise noise(977);
+    std::mt19937 random(8);
+    std::uniform_real_distribution<float> coordinate(-300.0f, 300.0f);
+    int differing = 0;
+    for (int n = 0; n < 20000; ++n) {
+        std::array<Vec3f, 4> points;
+        for (Vec3f& p : points) p = Vec3f(coordinate(random), coordinate(random), coordinate(random));
+        if (n % 4 == 0) points[2][1] = std::round(points[2][1]); // on a lattice plane
+        const std::array<NoiseSample, 4> lanes = noise.sample(points);
+        for (int lane = 0; lane < 4; ++lane) {
+            const NoiseSample one = noise.sample(points[lane]);
+            bool same = sameBits(lanes[lane].value, one.value);
+            for (int axis = 0; axis < 3; ++axis) same = same && sameBits(lanes[lane].gradient[axis], one.gradient[axis]);
+            differing += !same;
+        }
+    }
+    CHECK(differing == 0);
+}
+
 TEST_CASE("noise: fBm and billow, alone or batched, are their octaves summed one by one, bit for bit", "[noise]")
 {
     const GradientNoise noise(11);

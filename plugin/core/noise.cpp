@@ -73,6 +73,42 @@ Floats4 gradient3(Ints4 h, Floats4 x, Floats4 y, Floats4 z)
     return (Floats4)((Bits4)u ^ flipU) + (Floats4)((Bits4)v ^ flipV);
 }
 
+Floats4 fadeDerivative(Floats4 t) { return 30.0f * t * t * (t - 1.0f) * (t - 1.0f); }
+
+/// Four samples' values and gradients from their offsets (dx, dy, dz) in
+/// their lattice cells and the gradients g[corner][axis] at the cells'
+/// corners (000, 100, 010, 110, 001, 101, 011, 111, by their x y z offsets):
+/// GradientNoise::sample's expression, operation for operation, so that each
+/// lane is bit for bit its sample. Not shared with it as a template: the
+/// scalar sample made from one took 48 ns instead of 36.
+void cellSample(const Floats4 (&g)[8][3], Floats4 dx, Floats4 dy, Floats4 dz, Floats4& value, Floats4 (&gradient)[3])
+{
+    using F = Floats4;
+    const F u = fade(dx), v = fade(dy), w = fade(dz);
+    const F du = fadeDerivative(dx), dv = fadeDerivative(dy), dw = fadeDerivative(dz);
+    const auto ramp = [&g](int corner, F x, F y, F z) { return g[corner][0] * x + g[corner][1] * y + g[corner][2] * z; };
+    const F dx1 = dx - 1.0f, dy1 = dy - 1.0f, dz1 = dz - 1.0f;
+    const F n000 = ramp(0, dx, dy, dz), n100 = ramp(1, dx1, dy, dz);
+    const F n010 = ramp(2, dx, dy1, dz), n110 = ramp(3, dx1, dy1, dz);
+    const F n001 = ramp(4, dx, dy, dz1), n101 = ramp(5, dx1, dy, dz1);
+    const F n011 = ramp(6, dx, dy1, dz1), n111 = ramp(7, dx1, dy1, dz1);
+    // The value as a polynomial in the fades; its gradient adds the fades'
+    // derivatives times that polynomial's partials to the blend of the gradients.
+    const F k1 = n100 - n000, k2 = n010 - n000, k3 = n001 - n000;
+    const F k4 = n000 - n100 - n010 + n110, k5 = n000 - n010 - n001 + n011, k6 = n000 - n100 - n001 + n101;
+    const F k7 = -n000 + n100 + n010 - n110 + n001 - n101 - n011 + n111;
+    value = n000 + k1 * u + k2 * v + k3 * w + k4 * u * v + k5 * v * w + k6 * w * u + k7 * u * v * w;
+    for (int axis = 0; axis < 3; ++axis) {
+        const F x0 = g[0][axis] + (g[1][axis] - g[0][axis]) * u, x1 = g[2][axis] + (g[3][axis] - g[2][axis]) * u;
+        const F x2 = g[4][axis] + (g[5][axis] - g[4][axis]) * u, x3 = g[6][axis] + (g[7][axis] - g[6][axis]) * u;
+        const F y0 = x0 + (x1 - x0) * v, y1 = x2 + (x3 - x2) * v;
+        gradient[axis] = y0 + (y1 - y0) * w;
+    }
+    gradient[0] += du * (k1 + k4 * v + k6 * w + k7 * v * w);
+    gradient[1] += dv * (k2 + k4 * u + k5 * w + k7 * u * w);
+    gradient[2] += dw * (k3 + k5 * v + k6 * u + k7 * u * v);
+}
+
 /// At most this many octaves a fractal sum takes (FractalOptions::octaves),
 /// and octaves of several sums evaluated together.
 constexpr int kMaxOctaves = 16;
@@ -197,6 +233,13 @@ std::array<float, 4> GradientNoise::operator()(const std::array<float, 4>& px, c
     return values;
 }
 
+std::array<int, 8> GradientNoise::cornerHashes(int ix, int iy, int iz) const
+{
+    const int a = hash(ix) + iy, aa = hash(a) + iz, ab = hash(a + 1) + iz;
+    const int b = hash(ix + 1) + iy, ba = hash(b) + iz, bb = hash(b + 1) + iz;
+    return {hash(aa), hash(ba), hash(ab), hash(bb), hash(aa + 1), hash(ba + 1), hash(ab + 1), hash(bb + 1)};
+}
+
 NoiseSample GradientNoise::sample(const Vec3f& p) const
 {
     const float fx = std::floor(p[0]), fy = std::floor(p[1]), fz = std::floor(p[2]);
@@ -236,6 +279,35 @@ NoiseSample GradientNoise::sample(const Vec3f& p) const
     s.gradient += Vec3f(du * (k1 + k4 * v + k6 * w + k7 * v * w), dv * (k2 + k4 * u + k5 * w + k7 * u * w),
                         dw * (k3 + k5 * v + k6 * u + k7 * u * v));
     return s;
+}
+
+std::array<NoiseSample, 4> GradientNoise::sample(const std::array<Vec3f, 4>& p) const
+{
+    alignas(16) float coordinates[3][4];
+    for (int lane = 0; lane < 4; ++lane)
+        for (int axis = 0; axis < 3; ++axis) coordinates[axis][lane] = p[lane][axis];
+    Floats4 x, y, z;
+    std::memcpy(&x, coordinates[0], sizeof(x));
+    std::memcpy(&y, coordinates[1], sizeof(y));
+    std::memcpy(&z, coordinates[2], sizeof(z));
+    Ints4 ix, iy, iz;
+    const Floats4 dx = x - floor(x, ix), dy = y - floor(y, iy), dz = z - floor(z, iz);
+    // The corners' gradients, lane by lane (no gather in SSE2), into plain
+    // memory read as vectors after (lane inserts cost more).
+    alignas(16) float lanes[8][3][4];
+    for (int lane = 0; lane < 4; ++lane) {
+        const std::array<int, 8> corners = cornerHashes(ix[lane], iy[lane], iz[lane]);
+        for (int corner = 0; corner < 8; ++corner)
+            for (int axis = 0; axis < 3; ++axis) lanes[corner][axis][lane] = kCubeEdges[corners[corner] & 15][axis];
+    }
+    Floats4 g[8][3];
+    std::memcpy(g, lanes, sizeof(g));
+    Floats4 value, gradient[3];
+    cellSample(g, dx, dy, dz, value, gradient);
+    std::array<NoiseSample, 4> samples;
+    for (int lane = 0; lane < 4; ++lane)
+        samples[lane] = {value[lane], Vec3f(gradient[0][lane], gradient[1][lane], gradient[2][lane])};
+    return samples;
 }
 
 float fbm(const GradientNoise& noise, const Vec3f& p, const FractalOptions& options)

@@ -91,7 +91,7 @@ void Simulator::advanceDynamicObjects(double t0, double t1, const std::function<
             const std::size_t i = dynamic[d];
             const ObjectSpec& spec = *mObjects[i].spec;
             const DynamicState& state = mStates[i];
-            Vec3d a = uniformAcceleration(mObjectFields[i], state.pose.translation);
+            Vec3d a = fieldAcceleration(mObjectFields[i], state.pose.translation, t);
             // The paper's hit test: this object's triangle centroids against every other field.
             for (const std::size_t j : mRepulsive) {
                 if (j == i) continue;

@@ -46,10 +46,11 @@ double readChangeBound(const Vec3d& move) { return std::abs(move.x()) + std::abs
 
 } // namespace
 
-Vec3d Simulator::uniformAcceleration(const UniformFields& fields, const Vec3d& p) const
+Vec3d Simulator::fieldAcceleration(const AccelerationFields& fields, const Vec3d& p, double t) const
 {
     Vec3d a = fields.leadingSum;
     for (const std::size_t f : fields.rest) a += mSetup.fields[f].accelerationAt(p);
+    for (const std::size_t f : fields.turbulence) a += mTurbulence[f].acceleration(p, t);
     return a;
 }
 
@@ -191,14 +192,25 @@ bool Simulator::resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t,
         // one that went through and out again (a thin part) stops where it
         // reached the surface. One that began on or in it (rounding, or a
         // rotation sweeping over it) is pushed out too.
+        const auto pushedOut = [&](Vec3d& point) {
+            for (int iteration = 0; iteration < 8; ++iteration) {
+                const double d = distance.distance(accessors[k], point);
+                if (d >= 0.5 * skin) return true;
+                const Vec3d normal = distance.gradient(accessors[k], point);
+                if (normal.lengthSqr() < 1e-12) return false;
+                point += normal.unitSafe() * (skin - d);
+            }
+            return distance.distance(accessors[k], point) >= 0.5 * skin;
+        };
+        const Vec3d beforeHit = a + (b - a) * (double(std::max(hit - 1, 0)) / samples);
         const bool endsAtSurface = distance.distance(accessors[k], b) < 0.5 * skin;
-        Vec3d local = endsAtSurface ? b : a + (b - a) * (double(std::max(hit - 1, 0)) / samples);
-        for (int iteration = 0; iteration < 8; ++iteration) {
-            const double d = distance.distance(accessors[k], local);
-            if (d >= 0.5 * skin) break;
-            const Vec3d normal = distance.gradient(accessors[k], local);
-            if (normal.lengthSqr() < 1e-12) break;
-            local += normal.unitSafe() * (skin - d);
+        Vec3d local = endsAtSurface ? b : beforeHit;
+        // A path that ends deeper than the level set's inner band (a static
+        // object's is three voxels) finds no gradient there: it stops where
+        // it reached the surface instead.
+        if (!pushedOut(local) && endsAtSurface) {
+            local = beforeHit;
+            pushedOut(local);
         }
         x = after.worldFromObject(local);
         // Moved off its path: every object's bound is unknown again.
@@ -263,7 +275,7 @@ void Simulator::advanceParticles(double t0, double t1)
         DragFactors drag;
         for (std::size_t p = range.begin(); p != range.end(); ++p) {
             const CloudSpec& cloud = mSetup.clouds[mParticles.cloud[p]];
-            const UniformFields& fields = mCloudFields[mParticles.cloud[p]];
+            const AccelerationFields& fields = mCloudFields[mParticles.cloud[p]];
             Vec3d x(mParticles.position[p]), v(mParticles.velocity[p]);
             double t = t0;
             uint32_t steps = 0;
@@ -272,7 +284,7 @@ void Simulator::advanceParticles(double t0, double t1)
                 lowerBounds[k] = boundsKept ? mKeptBounds.bound[p * contacts + k] : -std::numeric_limits<double>::infinity();
             while (t < t1) {
                 const FieldsAt at = fieldsAt(x, t, cloud.mass, accessors.data(), true);
-                const Vec3d a = (fields.rest.empty() ? fields.leadingSum : uniformAcceleration(fields, x)) + at.acceleration;
+                const Vec3d a = fieldAcceleration(fields, x, t) + at.acceleration;
                 // In a potential flow's band the particle moves with the flow:
                 // at the terminal velocity of what acts on it, without inertia.
                 const bool carried = at.inFlow;

@@ -79,17 +79,18 @@ void SimulationSetup::validate() const
         require(particles <= kMaxParticles, key,
                 "the clouds ask for more than " + std::to_string(kMaxParticles) + " particles in all");
     }
-    for (std::size_t i = 0; i < fields.size(); ++i) {
-        const std::string key = "fields/" + std::to_string(i);
-        for (std::size_t n = 0; n < fields[i].affects.size(); ++n) {
-            const std::string& name = fields[i].affects[n];
+    const auto requireMoving = [&](const std::string& key, const std::vector<std::string>& affects) {
+        for (std::size_t n = 0; n < affects.size(); ++n) {
+            const std::string& name = affects[n];
             const bool movingObject =
                 std::any_of(objects.begin(), objects.end(), [&](const ObjectSpec& o) { return o.name == name && o.isDynamic; });
             const bool cloud = std::any_of(clouds.begin(), clouds.end(), [&](const CloudSpec& c) { return c.name == name; });
             require(movingObject || cloud, key + "/affects/" + std::to_string(n),
                     "no dynamic object or cloud is named \"" + name + "\"");
         }
-    }
+    };
+    for (std::size_t i = 0; i < fields.size(); ++i) requireMoving("fields/" + std::to_string(i), fields[i].affects);
+    for (std::size_t i = 0; i < turbulence.size(); ++i) requireMoving("turbulence/" + std::to_string(i), turbulence[i].affects);
 }
 
 } // namespace vfield

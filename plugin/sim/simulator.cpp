@@ -111,11 +111,10 @@ Simulator::Simulator(const SimulationSetup& setup, const Preparing& preparing) :
     // particles in spatial order, which advanceParticles keeps every few frames.
     mParticles.sortSpatially(mDomain);
     mStatesAtFrameStart = mStates;
-    updateRestPositions();
 
     mObjectFields.resize(mObjects.size());
     mCloudFields.resize(mSetup.clouds.size());
-    const auto add = [this](UniformFields& fields, std::size_t f) {
+    const auto add = [this](AccelerationFields& fields, std::size_t f) {
         // Summed now while every field so far acts everywhere: the sum a substep would make, in the same order.
         if (fields.rest.empty() && !mSetup.fields[f].box) fields.leadingSum += mSetup.fields[f].acceleration;
         else fields.rest.push_back(f);
@@ -127,6 +126,28 @@ Simulator::Simulator(const SimulationSetup& setup, const Preparing& preparing) :
         for (std::size_t c = 0; c < mSetup.clouds.size(); ++c)
             if (field.acts(mSetup.clouds[c].name)) add(mCloudFields[c], f);
     }
+    for (std::size_t f = 0; f < mSetup.turbulence.size(); ++f) {
+        const TurbulenceSpec& turbulence = mSetup.turbulence[f];
+        mTurbulence.emplace_back(turbulence);
+        for (std::size_t i = 0; i < mObjects.size(); ++i)
+            if (turbulence.acts(mSetup.objects[i].name)) mObjectFields[i].turbulence.push_back(f);
+        for (std::size_t c = 0; c < mSetup.clouds.size(); ++c)
+            if (turbulence.acts(mSetup.clouds[c].name)) mCloudFields[c].turbulence.push_back(f);
+    }
+
+    // The preroll: the frames before the first, at earlier times, the
+    // objects holding their first poses (poseAt interpolates between two
+    // equal states). The particles rest where it leaves them, sorted again.
+    if (const int frames = mSetup.options.preroll; frames > 0 && mParticles.size() > 0) {
+        report("clouds: preroll of " + std::to_string(frames) + " frames");
+        const double first = mSetup.frameTime(mFrame);
+        for (int frame = -frames; frame < 0; ++frame)
+            advanceParticles(first + frame / mSetup.fps, first + (frame + 1) / mSetup.fps);
+        mParticles.rest = mParticles.position;
+        mParticles.sortSpatially(mDomain);
+        mLastStep = {};
+    }
+    updateRestPositions();
 }
 
 std::vector<std::string> Simulator::meshReports() const

@@ -2,13 +2,14 @@
 /// @file scene_setup.h
 /// What the simulator animates, as typed options parsed once from the scene
 /// file: objects (static or dynamic meshes with repulsive octree fields),
-/// particle clouds, and uniform acceleration fields (gravity, wind, driving
-/// forces). Units: world units, seconds, mass units; y is up.
+/// particle clouds, uniform acceleration fields (gravity, wind, driving
+/// forces) and turbulence. Units: world units, seconds, mass units; y is up.
 
 #include <vfield/core/fields.h>
 #include <vfield/core/transform.h>
 #include <vfield/field/repulsion_field.h>
 #include <vfield/mesh/mesh_source.h>
+#include <vfield/sim/turbulence.h>
 
 #include <optional>
 #include <string>
@@ -212,6 +213,10 @@ struct SimulationOptions {
     /// with the material no more than one period's motion. 0: one rest
     /// position, where the particle was emitted, never reset.
     int restPeriod = 0;
+    /// Frames (0..9999) the clouds move before the first frame, under every
+    /// field, the objects held at their first poses: the flow's swirls shape
+    /// a cloud before it is seen. Particles rest where it leaves them.
+    int preroll = 0;
 
     /// Throws OptionError naming the first option out of range.
     void validate() const;
@@ -235,6 +240,11 @@ struct SimulationOptions {
                   .unit("frames")
                   .doc("dual rest: every particle's rest is reset every restPeriod frames, a second rest half a period "
                        "later, blended so that no reset shows (an even number); 0: the emitted position for good"));
+        visit(field("preroll", self.preroll)
+                  .range(0, 9999)
+                  .unit("frames")
+                  .doc("the clouds move this many frames before the first, the objects held at their first poses, so "
+                       "that the flow shapes them before they are seen; they rest where it leaves them"));
     }
 };
 
@@ -248,6 +258,7 @@ struct SimulationSetup {
     std::vector<ObjectSpec> objects;
     std::vector<CloudSpec> clouds;
     std::vector<UniformFieldSpec> fields;
+    std::vector<TurbulenceSpec> turbulence;
     SimulationOptions options;
 
     double frameTime(int frame) const { return (frame - firstFrame) / fps; }
@@ -269,7 +280,8 @@ struct SimulationSetup {
         visit(field("objects", self.objects).required().doc("meshes, static or dynamic, with repulsive fields"));
         visit(field("clouds", self.clouds).doc("particle clouds"));
         visit(field("fields", self.fields).doc("uniform acceleration fields: gravity, wind, driving forces"));
-        visit(field("simulation", self.options).doc("sampling, step size, domain, rest"));
+        visit(field("turbulence", self.turbulence).doc("curl-noise swirls at several sizes that stir clouds, divergence-free"));
+        visit(field("simulation", self.options).doc("sampling, step size, domain, rest, preroll"));
     }
 };
 

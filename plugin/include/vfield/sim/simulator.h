@@ -5,8 +5,8 @@
 /// objects' repulsive octree fields push back ever harder near their surfaces
 /// (or the alternatives of repulsion_field.h, for comparison).
 ///
-/// Motion: a = sum of uniform fields (accelerations) + sum of repulsive forces
-/// / mass - drag x v, integrated by semi-implicit Euler; inside a potential
+/// Motion: a = sum of uniform fields and turbulence (accelerations) + sum of
+/// repulsive forces / mass - drag x v, integrated by semi-implicit Euler; inside a potential
 /// flow (RepulsionMethod::PotentialFlow) a particle moves with the flow, at
 /// the terminal velocity a / drag. Each particle takes
 /// its own substeps, sized so that it moves at most cfl x the size of the
@@ -34,6 +34,7 @@
 #include <vfield/sim/flight.h>
 #include <vfield/sim/particles.h>
 #include <vfield/sim/scene_setup.h>
+#include <vfield/sim/turbulence.h>
 
 #include <openvdb/openvdb.h>
 
@@ -85,7 +86,8 @@ public:
     using Preparing = std::function<void(const std::string& step)>;
 
     /// Loads or generates every mesh and builds and voxelizes the fields (in
-    /// parallel), then spawns the clouds. Throws on bad input.
+    /// parallel), then spawns the clouds and runs their preroll
+    /// (SimulationOptions::preroll). Throws on bad input.
     explicit Simulator(const SimulationSetup& setup, const Preparing& preparing = {});
     // Objects point into the setup it owns: no copies (restoreState() resets one).
     Simulator(const Simulator&) = delete;
@@ -160,15 +162,17 @@ private:
     };
     FieldsAt fieldsAt(const Vec3d& p, double time, double mass, RepulsionField::Accessor* accessors, bool withForces) const;
     void advanceDynamicObjects(double t0, double t1, const std::function<void()>& afterSubstep);
-    /// The uniform fields acting on one object or cloud (UniformFieldSpec::affects).
-    struct UniformFields {
-        /// The sum of the leading ones that act everywhere (no box), added
-        /// in the scene's order as a substep would: the same to the bit.
+    /// The uniform fields and turbulence acting on one object or cloud
+    /// (UniformFieldSpec::affects, TurbulenceSpec::affects).
+    struct AccelerationFields {
+        /// The sum of the leading uniform fields that act everywhere (no
+        /// box), added in the scene's order as a substep would: the same to the bit.
         Vec3d leadingSum{0.0};
-        std::vector<std::size_t> rest; ///< the others, indices into the setup's, in order
+        std::vector<std::size_t> rest;       ///< the other uniform fields, indices into the setup's, in order
+        std::vector<std::size_t> turbulence; ///< indices into mTurbulence
     };
-    /// The uniform fields' acceleration at p.
-    Vec3d uniformAcceleration(const UniformFields& fields, const Vec3d& p) const;
+    /// What the uniform fields and turbulence accelerate at p at time t (seconds).
+    Vec3d fieldAcceleration(const AccelerationFields& fields, const Vec3d& p, double t) const;
     void advanceParticles(double t0, double t1);
     /// Dual rest (SimulationOptions::restPeriod): resets the rest position due
     /// at the current frame and sets the blend between the two.
@@ -198,8 +202,9 @@ private:
     std::vector<uint8_t> mWorldIsObject;
     std::vector<std::size_t> mRepulsive; ///< objects with a field
     std::vector<std::size_t> mContact;   ///< objects with a closed mesh's distance (SimObject::distance)
-    /// The uniform fields acting on each object and each cloud.
-    std::vector<UniformFields> mObjectFields, mCloudFields;
+    std::vector<Turbulence> mTurbulence; ///< the setup's, in its order
+    /// The uniform fields and turbulence acting on each object and each cloud.
+    std::vector<AccelerationFields> mObjectFields, mCloudFields;
     ParticleSet mParticles;
     BBoxd mDomain;
     double mFinestCell = 0.0;
