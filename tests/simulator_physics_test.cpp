@@ -424,6 +424,7 @@ TEST_CASE("simulator: a preroll moves the clouds before the first frame, holds t
         REQUIRE(q < unrolled.particles().size());
         CHECK((Vec3d(rolled.particles().position[p]) - Vec3d(unrolled.particles().position[q])).length() < 1e-5);
         CHECK(rolled.particles().rest[p] == rolled.particles().position[p]);
+        CHECK(rolled.particles().peak[p] == rolled.particles().position[p].y());
     }
 }
 

@@ -137,13 +137,15 @@ Simulator::Simulator(const SimulationSetup& setup, const Preparing& preparing) :
 
     // The preroll: the frames before the first, at earlier times, the
     // objects holding their first poses (poseAt interpolates between two
-    // equal states). The particles rest where it leaves them, sorted again.
+    // equal states). The particles rest where it leaves them, their peak
+    // heights there too (condensation counts from the first frame), sorted again.
     if (const int frames = mSetup.options.preroll; frames > 0 && mParticles.size() > 0) {
         report("clouds: preroll of " + std::to_string(frames) + " frames");
         const double first = mSetup.frameTime(mFrame);
         for (int frame = -frames; frame < 0; ++frame)
             advanceParticles(first + frame / mSetup.fps, first + (frame + 1) / mSetup.fps);
         mParticles.rest = mParticles.position;
+        for (std::size_t p = 0; p < mParticles.size(); ++p) mParticles.peak[p] = mParticles.position[p].y();
         mParticles.sortSpatially(mDomain);
         mLastStep = {};
     }

@@ -215,7 +215,8 @@ struct SimulationOptions {
     int restPeriod = 0;
     /// Frames (0..9999) the clouds move before the first frame, under every
     /// field, the objects held at their first poses: the flow's swirls shape
-    /// a cloud before it is seen. Particles rest where it leaves them.
+    /// a cloud before it is seen. Particles rest where it leaves them, and
+    /// their condensation (VolumeOptions) counts their descent from there.
     int preroll = 0;
 
     /// Throws OptionError naming the first option out of range.
