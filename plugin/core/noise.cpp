@@ -283,25 +283,21 @@ NoiseSample GradientNoise::sample(const Vec3f& p) const
 
 std::array<NoiseSample, 4> GradientNoise::sample(const std::array<Vec3f, 4>& p) const
 {
-    alignas(16) float coordinates[3][4];
-    for (int lane = 0; lane < 4; ++lane)
-        for (int axis = 0; axis < 3; ++axis) coordinates[axis][lane] = p[lane][axis];
     Floats4 x, y, z;
-    std::memcpy(&x, coordinates[0], sizeof(x));
-    std::memcpy(&y, coordinates[1], sizeof(y));
-    std::memcpy(&z, coordinates[2], sizeof(z));
+    for (int lane = 0; lane < 4; ++lane) {
+        x[lane] = p[lane][0];
+        y[lane] = p[lane][1];
+        z[lane] = p[lane][2];
+    }
     Ints4 ix, iy, iz;
     const Floats4 dx = x - floor(x, ix), dy = y - floor(y, iy), dz = z - floor(z, iz);
-    // The corners' gradients, lane by lane (no gather in SSE2), into plain
-    // memory read as vectors after (lane inserts cost more).
-    alignas(16) float lanes[8][3][4];
+    // The corners' gradients, lane by lane (no gather in SSE2).
+    Floats4 g[8][3];
     for (int lane = 0; lane < 4; ++lane) {
         const std::array<int, 8> corners = cornerHashes(ix[lane], iy[lane], iz[lane]);
         for (int corner = 0; corner < 8; ++corner)
-            for (int axis = 0; axis < 3; ++axis) lanes[corner][axis][lane] = kCubeEdges[corners[corner] & 15][axis];
+            for (int axis = 0; axis < 3; ++axis) g[corner][axis][lane] = kCubeEdges[corners[corner] & 15][axis];
     }
-    Floats4 g[8][3];
-    std::memcpy(g, lanes, sizeof(g));
     Floats4 value, gradient[3];
     cellSample(g, dx, dy, dz, value, gradient);
     std::array<NoiseSample, 4> samples;
