@@ -6,9 +6,9 @@
 /// (or the alternatives of repulsion_field.h, for comparison).
 ///
 /// Motion: a = sum of uniform fields and turbulence (accelerations) + sum of
-/// repulsive forces / mass - drag x v, integrated by semi-implicit Euler; inside a potential
-/// flow (RepulsionMethod::PotentialFlow) a particle moves with the flow, at
-/// the terminal velocity a / drag. Each particle takes
+/// repulsive forces / mass - drag x v, integrated by semi-implicit Euler;
+/// inside a potential flow (RepulsionMethod::PotentialFlow) a particle moves
+/// with the flow, at the terminal velocity a / drag. Each particle takes
 /// its own substeps, sized so that it moves at most cfl x the size of the
 /// field cells around it per substep, relative to every field (a dynamic
 /// object sweeping over a resting particle counts): fast particles cannot

@@ -6,10 +6,10 @@
 /// noise (Bridson, Hourihan and Nordenstam, "Curl-noise for procedural fluid
 /// flow", SIGGRAPH 2007): one octave after another, the curl of the vector
 /// potential n grad m of two gradient noises n and m, which is grad n x grad m,
-/// so it is divergence-free by
-/// construction: it stirs without sources or sinks, and a cloud it moves
-/// neither gathers into clumps nor tears holes. Houdini's POP Curl Noise and
-/// Blender's turbulence force field are its relatives.
+/// so it is divergence-free by construction: it stirs without sources or
+/// sinks, and a cloud it moves neither gathers into clumps nor tears holes.
+/// Houdini's POP Curl Noise and Blender's turbulence force field are its
+/// relatives.
 ///
 /// It acts on particles and dynamic objects like the uniform fields, as an
 /// acceleration alike for every mass, in world space; the objects' repulsive
@@ -88,7 +88,7 @@ public:
 
 private:
     TurbulenceSpec mSpec;
-    GradientNoise mNoise; ///< each component of the potential reads it at its own offset
+    GradientNoise mNoise; ///< n and m: this one noise read at two offsets far apart
     double mScale = 0.0;  ///< strength over the octaves' combined root mean square
 };
 
