@@ -2,9 +2,7 @@
 
 #include <vfield/core/trilinear_sampler.h>
 
-#include <openvdb/tools/Morphology.h>
 #include <openvdb/tools/RayIntersector.h>
-#include <openvdb/tree/LeafManager.h>
 
 #include <tbb/enumerable_thread_specific.h>
 
@@ -52,7 +50,6 @@ CloudVolume::CloudVolume(const CloudLighting& lighting, const MediumSettings& me
     if (lighting.empty()) return;
     double step = 0.25 * lighting.lightGridSpacing();
     for (int i = 0; i < kNearSteps; ++i, step *= kNearGrowth) mNearSteps.push_back(step);
-    mShading = shadingGrid();
 }
 
 double CloudVolume::surfaceSunTransmittance(const Vec3d& p) const
@@ -91,93 +88,33 @@ CloudVolume::OctavePhases CloudVolume::octavePhases(const Vec3d& dir) const
 // light is marched through the density itself, in steps growing from a
 // quarter of a cell, for about twelve cells or until no light is left,
 // and the grid is read only beyond (CloudVolume::mNearSteps).
-// That march costs sixteen reads of the density a sample, most of the fast
-// integrator's time where a cloud is thin and broken and rays run long
-// through it. So it is taken once per frame at each voxel that a sample
-// with density can read (the density's active voxels and their neighbours),
-// and the optical depth it finds is read trilinearly with the density, in
-// one read of one tree (shadingGrid): at 1280x720 and 2 samples a pixel,
-// five frames (205-209, one vfield render, start-up included) of the bank
-// stirred by turbulence took 10.4 s against 14.2, of the main job 4.6 s
-// against 5.7. The price is fixed per frame: at 640x360 and one sample the
-// main job's frame 120 takes twice as long (BM_RenderMainJob, 193 ms).
-// The optical depth, not the transmittance: across a lit surface of dense
-// cloud the transmittance falls by e^-2 over a voxel, and interpolated it
-// left the cloud 12-20% too bright, where the depth, linear into a slab, is
-// exact.
-openvdb::Vec3SGrid::Ptr CloudVolume::shadingGrid() const
+template<typename GridBeyond>
+float CloudVolume::lightThrough(Density& density, const Vec3d& p, const Vec3d& towards, const GridBeyond& gridBeyond) const
 {
-    const openvdb::FloatGrid& density = mLighting.density();
-    const openvdb::math::Transform& transform = density.transform();
-    auto tree = std::make_shared<openvdb::Vec3STree>(density.tree(), openvdb::Vec3s(0.0f), openvdb::TopologyCopy());
-    tree->voxelizeActiveTiles();
-    openvdb::tools::dilateActiveValues(*tree, 1, openvdb::tools::NN_FACE_EDGE_VERTEX, openvdb::tools::IGNORE_TILES);
-    // Straight up from a voxel's centre, the march's trilinear reads lie on
-    // the voxel's column (in a grid without rotation): each is the linear
-    // interpolation of two voxels of the column, bit for bit, read alone
-    // (BM_RenderMainJob 214 to 193 ms).
-    const bool upIsIndexY = transform.isLinear() && transform.baseMap()->getAffineMap()->isScaleTranslate();
-    const double voxelsPerUnit = 1.0 / transform.voxelSize()[1];
-    openvdb::tree::LeafManager<openvdb::Vec3STree>(*tree).foreach ([&](openvdb::Vec3STree::LeafNodeType& leaf, std::size_t) {
-        Density reader(density.tree()), column(density.tree());
-        for (auto voxel = leaf.beginValueOn(); voxel; ++voxel) {
-            const openvdb::Coord ijk = voxel.getCoord();
-            const Vec3d p = transform.indexToWorld(ijk);
-            const auto sunBeyond = [&](double s) { return mLighting.sunInCloud(p + mLighting.toSun() * s); };
-            const auto skyBeyond = [&](double s) { return mLighting.skyTransmittance(p + kUp * s); };
-            const double sunDepth =
-                opticalDepthAlong([&](double s) { return densityAt(reader, p + mLighting.toSun() * s); }, sunBeyond);
-            const double skyDepth = upIsIndexY
-                                        ? opticalDepthAlong(
-                                              [&](double s) {
-                                                  const double y = ijk.y() + s * voxelsPerUnit, below = std::floor(y);
-                                                  const float a = column.valueAt(ijk.offsetBy(0, int(below) - ijk.y(), 0)),
-                                                              b = column.valueAt(ijk.offsetBy(0, int(below) + 1 - ijk.y(), 0));
-                                                  return a + (b - a) * (y - below);
-                                              },
-                                              skyBeyond)
-                                        : opticalDepthAlong([&](double s) { return densityAt(reader, p + kUp * s); }, skyBeyond);
-            voxel.setValue(openvdb::Vec3s(reader.valueAt(ijk), float(sunDepth), float(skyDepth)));
-        }
-    });
-    openvdb::Vec3SGrid::Ptr grid = openvdb::Vec3SGrid::create(tree);
-    grid->setTransform(transform.copy());
-    return grid;
-}
-
-double CloudVolume::densityAt(Density& density, const Vec3d& p) const
-{
-    return density.atIndex(mLighting.density().transform().worldToIndex(p));
-}
-
-template<typename DensityAt, typename GridBeyond>
-double CloudVolume::opticalDepthAlong(const DensityAt& densityAt, const GridBeyond& gridBeyond) const
-{
+    const openvdb::math::Transform& transform = mLighting.density().transform();
     double opticalDepth = 0.0, s = 0.0;
     for (const double ds : mNearSteps) {
-        opticalDepth += mExtinction * densityAt(s + 0.5 * ds) * ds;
+        opticalDepth += mExtinction * density.atIndex(transform.worldToIndex(p + towards * (s + 0.5 * ds))) * ds;
         s += ds;
-        if (opticalDepth > kOpaqueDepth) return opticalDepth;
+        if (opticalDepth > kOpaqueDepth) return 0.0f;
     }
-    const double beyond = gridBeyond(s);
-    return opticalDepth + (beyond > std::exp(-kOpaqueDepth) ? -std::log(beyond) : kOpaqueDepth);
+    return float(std::exp(-opticalDepth) * gridBeyond(p + towards * s));
 }
 
 float CloudVolume::sunThroughCloud(Density& density, const Vec3d& p) const
 {
-    const double opticalDepth = opticalDepthAlong([&](double s) { return densityAt(density, p + mLighting.toSun() * s); },
-                                                  [&](double s) { return mLighting.sunInCloud(p + mLighting.toSun() * s); });
-    return opticalDepth > kOpaqueDepth ? 0.0f : float(std::exp(-opticalDepth));
+    return lightThrough(density, p, mLighting.toSun(), [&](const Vec3d& q) { return mLighting.sunInCloud(q); });
 }
 
-float CloudVolume::sunThrough(const Vec3d& p, const openvdb::Vec3s& shading) const
+float CloudVolume::sunThrough(Density& density, const Vec3d& p) const
 {
-    return mLighting.sunVisible(p) * float(std::exp(-shading[kSunDepth]));
+    return mLighting.sunVisible(p) * sunThroughCloud(density, p);
 }
 
-CloudVolume::OctaveLight CloudVolume::octaveLight(const Vec3d& p, const openvdb::Vec3s& shading, const OctavePhases& phases) const
+CloudVolume::OctaveLight CloudVolume::octaveLight(Density& density, const Vec3d& p, const OctavePhases& phases) const
 {
-    const float sunT = sunThrough(p, shading), skyT = float(std::exp(-shading[kSkyDepth]));
+    const float sunT = sunThrough(density, p),
+                skyT = lightThrough(density, p, kUp, [&](const Vec3d&q) { return mLighting.skyTransmittance(q); });
     // The sky lights the cloud through the cloud above it, so bases darken
     // and tops stay bright. Octave 0 is single scattering, the light seen
     // through T; octave i >= 1 adds a^i of the light the cloud took away,
@@ -203,7 +140,7 @@ CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, d
     Segment segment;
     if (!mLighting.clip(origin, dir, tMin, tMax)) return segment;
     const openvdb::FloatGrid& densityGrid = mLighting.density();
-    ShadingReader shading(mShading->tree());
+    Density density(densityGrid.tree());
     const openvdb::math::Transform& densityTransform = densityGrid.transform();
     // Sunlight travels along -toSun and leaves towards the origin along -dir:
     // the angle between the two is that between dir and toSun.
@@ -227,8 +164,7 @@ CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, d
             nextStep = k + 1.0;
             const double dt = std::min(mStep, tMax - t);
             const Vec3d p = origin + dir * (t + jitter * dt);
-            const openvdb::Vec3s sample = shading.atIndex(densityTransform.worldToIndex(p));
-            const double rho = sample[kDensity];
+            const double rho = density.atIndex(densityTransform.worldToIndex(p));
             if (rho <= 0.0) continue;
             const double stepTransmittance = std::exp(-mExtinction * rho * dt);
             const double opacity = segment.transmittance * (1.0 - stepTransmittance);
@@ -236,9 +172,9 @@ CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, d
             // (1 - e^(-sigma_t dt)) * albedo * source.
             Vec3d source;
             if (scattered) { // the sun's single scattering, and the rest as the paths found it
-                source = sunRadiance * (phases[0] * sunThrough(p, sample)) + scattered->at(p);
+                source = sunRadiance * (phases[0] * sunThrough(density, p)) + scattered->at(p);
             } else {
-                const OctaveLight light = octaveLight(p, sample, phases);
+                const OctaveLight light = octaveLight(density, p, phases);
                 source = sunRadiance * light.sunShare + skyRadiance * light.skyShare;
             }
             segment.radiance += opacity * mAlbedo * source;

@@ -61,41 +61,26 @@ public:
     /// A reader of the density, for one thread.
     using Density = TrilinearSampler<openvdb::FloatTree>;
     /// The sun's transmittance through the cloud from p, as the march takes
-    /// it for single scattering (but at p, not interpolated between voxels):
-    /// through the density near p, from the light grid beyond. Surfaces in
-    /// the way are not counted.
+    /// it for single scattering: through the density near p, from the light
+    /// grid beyond. Surfaces in the way are not counted.
     float sunThroughCloud(Density& density, const Vec3d& p) const;
 
 private:
     using OctavePhases = std::array<double, 8>; ///< MultipleScattering::octaves is at most 8
     /// The phase of each octave for light leaving along -dir.
     OctavePhases octavePhases(const Vec3d& dir) const;
-    /// The cloud's optical depth along a way towards a light: densityAt(s)
-    /// at distances s from its start, marched (mNearSteps), then -ln of the
-    /// light grid's transmittance gridBeyond(s) where the march ends. The
-    /// march stops past kOpaqueDepth, and a grid's transmittance under
-    /// e^-kOpaqueDepth counts as kOpaqueDepth.
-    template<typename DensityAt, typename GridBeyond>
-    double opticalDepthAlong(const DensityAt& densityAt, const GridBeyond& gridBeyond) const;
-    /// The density at a world-space point.
-    double densityAt(Density& density, const Vec3d& p) const;
-    /// What a sample of the march reads, trilinearly in one read: the
-    /// density and the optical depth towards the sun and the sky (kDensity,
-    /// kSunDepth, kSkyDepth), at the density's active voxels and their 26
-    /// neighbours (all that a read where the density is not zero takes), on
-    /// the density's transform.
-    openvdb::Vec3SGrid::Ptr shadingGrid() const;
-    static constexpr int kDensity = 0, kSunDepth = 1, kSkyDepth = 2;
-    using ShadingReader = TrilinearSampler<openvdb::Vec3STree>;
-    /// The sun's share that reaches p (its shading read there): through the
-    /// cloud, not blocked by a surface.
-    float sunThrough(const Vec3d& p, const openvdb::Vec3s& shading) const;
+    /// The light's transmittance from p towards a light: marched through the
+    /// density near p, then read from gridBeyond(q).
+    template<typename GridBeyond>
+    float lightThrough(Density& density, const Vec3d& p, const Vec3d& towards, const GridBeyond& gridBeyond) const;
+    /// The sun's share that reaches p: through the cloud, not blocked by a surface.
+    float sunThrough(Density& density, const Vec3d& p) const;
     /// A sample's light as the octaves give it, in units of the sun's and the sky's radiance.
     struct OctaveLight {
         double sunShare = 0.0; ///< all octaves of the sun, single scattering included, their phases applied
         double skyShare = 0.0; ///< the sky's
     };
-    OctaveLight octaveLight(const Vec3d& p, const openvdb::Vec3s& shading, const OctavePhases& phases) const;
+    OctaveLight octaveLight(Density& density, const Vec3d& p, const OctavePhases& phases) const;
 
     const CloudLighting& mLighting;
     struct EmptySpaceSkipper;                    ///< OpenVDB's VolumeRayIntersector, one copy per thread
@@ -110,7 +95,6 @@ private:
     double mExtinction, mAlbedo, mStep;
     /// The steps of the march towards a light through the density, before its grid is read.
     std::vector<double> mNearSteps;
-    openvdb::Vec3SGrid::Ptr mShading; ///< shadingGrid(); null without a cloud
 };
 
 } // namespace vfield
