@@ -77,4 +77,17 @@ SilhouetteMeasure measureSilhouette(const std::string& withCloud, const std::str
     return measureSilhouette(mask, sa.width, sa.height, options);
 }
 
+SilhouetteMeasure measureOpacitySilhouette(const std::string& frame, const SilhouetteOptions& options)
+{
+    const OIIO::ImageBuf image = readImageAsFloat(frame);
+    const OIIO::ImageSpec& spec = image.spec();
+    if (spec.alpha_channel < 0) throw ValueError(frame + " has no alpha channel (render it as EXR with render.transparentSky)");
+    std::vector<float> alpha(std::size_t(spec.width) * std::size_t(spec.height));
+    image.get_pixels(OIIO::ROI(0, spec.width, 0, spec.height, 0, 1, spec.alpha_channel, spec.alpha_channel + 1),
+                     OIIO::TypeDesc::FLOAT, alpha.data());
+    std::vector<uint8_t> mask(alpha.size(), 0);
+    for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = alpha[i] > options.threshold;
+    return measureSilhouette(mask, spec.width, spec.height, options);
+}
+
 } // namespace vfield
