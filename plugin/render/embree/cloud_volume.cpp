@@ -23,9 +23,6 @@ constexpr int kNearSteps = 8;
 constexpr double kNearGrowth = 1.5;
 /// Optical depth beyond which no light is left to reach a sample (e^-7 < 0.001).
 constexpr double kOpaqueDepth = 7.0;
-/// The optical depth towards a light where its grid holds no light at all:
-/// finite, so that an octave that sees none of the extinction (b = 0) sees all of the light.
-constexpr double kMaxDepth = 1000.0;
 const Vec3d kUp(0.0, 1.0, 0.0); ///< towards the sky, as CloudLighting's sky grid
 } // namespace
 
@@ -92,53 +89,46 @@ CloudVolume::OctavePhases CloudVolume::octavePhases(const Vec3d& dir) const
 // quarter of a cell, for about twelve cells or until no light is left,
 // and the grid is read only beyond (CloudVolume::mNearSteps).
 template<typename GridBeyond>
-double CloudVolume::opticalDepthTowards(Density& density, const Vec3d& p, const Vec3d& towards,
-                                        const GridBeyond& gridBeyond) const
+float CloudVolume::lightThrough(Density& density, const Vec3d& p, const Vec3d& towards, const GridBeyond& gridBeyond) const
 {
     const openvdb::math::Transform& transform = mLighting.density().transform();
     double opticalDepth = 0.0, s = 0.0;
     for (const double ds : mNearSteps) {
         opticalDepth += mExtinction * density.atIndex(transform.worldToIndex(p + towards * (s + 0.5 * ds))) * ds;
         s += ds;
-        // Single scattering is dark from here; the octaves, which see b^i of
-        // the depth, take the rest of it from the grid.
-        if (opticalDepth > kOpaqueDepth) break;
+        if (opticalDepth > kOpaqueDepth) return 0.0f;
     }
-    const double beyond = gridBeyond(p + towards * s);
-    return beyond > 0.0 ? std::min(opticalDepth - std::log(beyond), kMaxDepth) : kMaxDepth;
+    return float(std::exp(-opticalDepth) * gridBeyond(p + towards * s));
 }
 
-float CloudVolume::sunThroughCloud(Density& density, const Vec3d& p) const { return float(std::exp(-sunDepth(density, p))); }
-
-double CloudVolume::sunDepth(Density& density, const Vec3d& p) const
+float CloudVolume::sunThroughCloud(Density& density, const Vec3d& p) const
 {
-    return opticalDepthTowards(density, p, mLighting.toSun(), [&](const Vec3d& q) { return mLighting.sunInCloud(q); });
+    return lightThrough(density, p, mLighting.toSun(), [&](const Vec3d& q) { return mLighting.sunInCloud(q); });
+}
+
+float CloudVolume::sunThrough(Density& density, const Vec3d& p) const
+{
+    return mLighting.sunVisible(p) * sunThroughCloud(density, p);
 }
 
 CloudVolume::OctaveLight CloudVolume::octaveLight(Density& density, const Vec3d& p, const OctavePhases& phases) const
 {
+    const float sunT = sunThrough(density, p),
+                skyT = lightThrough(density, p, kUp, [&](const Vec3d&q) { return mLighting.skyTransmittance(q); });
     // The sky lights the cloud through the cloud above it, so bases darken
     // and tops stay bright. Octave 0 is single scattering, the light seen
     // through T; octave i >= 1 adds a^i of the light the cloud took away,
     // T^(b^i) - T (e^(b^i ln T) - T): nothing where the cloud is thin, more
     // deep inside. The sky's light, diffuse already, takes its own a. A light
-    // blocked outright by a surface (sunVisible 0) stays dark in every
-    // octave; behind deep cloud each octave fades as T^(b^i) does (cut where
-    // single scattering went dark, at an optical depth of 7, the octaves left
-    // a cumulus's shadowed base black, where the reference shows it grey).
-    const double sunVisible = mLighting.sunVisible(p);
-    const double skyDepth = opticalDepthTowards(density, p, kUp, [&](const Vec3d& q) { return mLighting.skyTransmittance(q); });
-    const double skyT = std::exp(-skyDepth);
+    // blocked outright (T = 0: a surface in the way) stays dark in every octave.
+    const double logSun = std::log(std::min(double(sunT), 1.0)), logSky = std::log(std::min(double(skyT), 1.0));
     OctaveLight light;
-    light.skyShare = skyT;
-    for (std::size_t i = 1; i < mOctaves.size(); ++i)
-        light.skyShare += mOctaves[i].skyScattering * (std::exp(-mOctaves[i].extinction * skyDepth) - skyT);
-    if (sunVisible <= 0.0) return light;
-    const double logSun = std::log(std::min(sunVisible, 1.0)) - sunDepth(density, p), sunT = std::exp(logSun);
     light.sunShare = phases[0] * sunT;
+    light.skyShare = skyT;
     for (std::size_t i = 1; i < mOctaves.size(); ++i) {
         const Octave& octave = mOctaves[i];
-        light.sunShare += octave.scattering * phases[i] * (std::exp(octave.extinction * logSun) - sunT);
+        if (sunT > 0.0f) light.sunShare += octave.scattering * phases[i] * (std::exp(octave.extinction * logSun) - sunT);
+        if (skyT > 0.0f) light.skyShare += octave.skyScattering * (std::exp(octave.extinction * logSky) - skyT);
     }
     return light;
 }
@@ -182,7 +172,7 @@ CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, d
             // (1 - e^(-sigma_t dt)) * albedo * source.
             Vec3d source;
             if (scattered) { // the sun's single scattering, and the rest as the paths found it
-                source = sunRadiance * (phases[0] * mLighting.sunVisible(p) * sunThroughCloud(density, p)) + scattered->at(p);
+                source = sunRadiance * (phases[0] * sunThrough(density, p)) + scattered->at(p);
             } else {
                 const OctaveLight light = octaveLight(density, p, phases);
                 source = sunRadiance * light.sunShare + skyRadiance * light.skyShare;

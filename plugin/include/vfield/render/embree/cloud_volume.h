@@ -69,14 +69,12 @@ private:
     using OctavePhases = std::array<double, 8>; ///< MultipleScattering::octaves is at most 8
     /// The phase of each octave for light leaving along -dir.
     OctavePhases octavePhases(const Vec3d& dir) const;
-    /// The cloud's optical depth from p towards a light: marched through the
-    /// density near p (mNearSteps, or until single scattering is dark), then
-    /// -ln of gridBeyond(q), the light grid's transmittance where the march
-    /// ended; at most kMaxDepth.
+    /// The light's transmittance from p towards a light: marched through the
+    /// density near p, then read from gridBeyond(q).
     template<typename GridBeyond>
-    double opticalDepthTowards(Density& density, const Vec3d& p, const Vec3d& towards, const GridBeyond& gridBeyond) const;
-    /// The cloud's optical depth from p towards the sun. Surfaces in the way are not counted.
-    double sunDepth(Density& density, const Vec3d& p) const;
+    float lightThrough(Density& density, const Vec3d& p, const Vec3d& towards, const GridBeyond& gridBeyond) const;
+    /// The sun's share that reaches p: through the cloud, not blocked by a surface.
+    float sunThrough(Density& density, const Vec3d& p) const;
     /// A sample's light as the octaves give it, in units of the sun's and the sky's radiance.
     struct OctaveLight {
         double sunShare = 0.0; ///< all octaves of the sun, single scattering included, their phases applied
