@@ -33,6 +33,28 @@ using vfield::test::runVfieldCli;
 
 int lineCount(const std::string& text) { return int(std::count(text.begin(), text.end(), '\n')); }
 
+/// What `vfield silhouette` printed: the outline's dimension, the cloud's share of the pixels.
+struct SilhouetteLine {
+    double dimension = 0.0, percent = 0.0;
+};
+SilhouetteLine silhouetteOf(const Run& measure)
+{
+    REQUIRE(measure.exitCode == 0);
+    INFO(measure.out);
+    SilhouetteLine line;
+    REQUIRE(std::sscanf(measure.out.c_str(), "dimension %lf, cloud %lf%%", &line.dimension, &line.percent) == 2);
+    return line;
+}
+
+/// The silhouette tests' disk, 60 pixels in radius in a 256x256 frame, as measured.
+void checkIsTheDisk(const Run& measure)
+{
+    INFO(measure.out);
+    const SilhouetteLine disk = silhouetteOf(measure);
+    CHECK(disk.dimension == Approx(1.0).margin(0.06));
+    CHECK(disk.percent == Approx(100.0 * M_PI * 60 * 60 / (256 * 256)).epsilon(0.02));
+}
+
 } // namespace
 
 TEST_CASE("cli: probe prints the octree's force at each point", "[cli]")
@@ -738,13 +760,7 @@ TEST_CASE("cli: silhouette measures the outline of what a frame brightens agains
     write("cloud.png", true, 256);
     write("wide.png", false, 300);
 
-    const Run disk = runVfieldCli("silhouette " + dir + "/cloud.png " + dir + "/clear.png", dir);
-    REQUIRE(disk.exitCode == 0);
-    INFO(disk.out);
-    double dimension = 0.0, percent = 0.0;
-    REQUIRE(std::sscanf(disk.out.c_str(), "dimension %lf, cloud %lf%%", &dimension, &percent) == 2);
-    CHECK(dimension == Approx(1.0).margin(0.06));
-    CHECK(percent == Approx(100.0 * M_PI * 60 * 60 / (256 * 256)).epsilon(0.02));
+    checkIsTheDisk(runVfieldCli("silhouette " + dir + "/cloud.png " + dir + "/clear.png", dir));
 
     const Run mismatched = runVfieldCli("silhouette " + dir + "/cloud.png " + dir + "/wide.png", dir);
     CHECK(mismatched.exitCode != 0);
@@ -766,13 +782,7 @@ TEST_CASE("cli: silhouette --opacity measures what a frame's alpha covers, whate
     OIIO::ImageBuf opaque(OIIO::ImageSpec(256, 256, 3, OIIO::TypeDesc::UINT8));
     REQUIRE(opaque.write(dir + "/opaque.png"));
 
-    const Run disk = runVfieldCli("silhouette --opacity --threshold 0.5 " + dir + "/frame.exr", dir);
-    REQUIRE(disk.exitCode == 0);
-    INFO(disk.out);
-    double dimension = 0.0, percent = 0.0;
-    REQUIRE(std::sscanf(disk.out.c_str(), "dimension %lf, cloud %lf%%", &dimension, &percent) == 2);
-    CHECK(dimension == Approx(1.0).margin(0.06));
-    CHECK(percent == Approx(100.0 * M_PI * 60 * 60 / (256 * 256)).epsilon(0.02));
+    checkIsTheDisk(runVfieldCli("silhouette --opacity --threshold 0.5 " + dir + "/frame.exr", dir));
 
     const Run noAlpha = runVfieldCli("silhouette --opacity " + dir + "/opaque.png", dir);
     CHECK(noAlpha.exitCode != 0);
@@ -798,12 +808,10 @@ TEST_CASE("cli: a lone cumulus's billows roughen the outline of its opacity", "[
                              dir)
                     .exitCode == 0);
         const Run measure = runVfieldCli("silhouette --opacity --threshold 0.5 " + out + "/frame.0002.exr", dir);
-        REQUIRE(measure.exitCode == 0);
         INFO(measure.out);
-        double dimension = 0.0, percent = 0.0;
-        REQUIRE(std::sscanf(measure.out.c_str(), "dimension %lf, cloud %lf%%", &dimension, &percent) == 2);
-        CHECK(percent > 1.0);
-        return dimension;
+        const SilhouetteLine line = silhouetteOf(measure);
+        CHECK(line.percent > 1.0);
+        return line.dimension;
     };
     const double billowed = dimensionOf("billows", "");
     const double particlesAlone = dimensionOf("plain", "--set /volume/detail/voxelSize=0");
