@@ -3,8 +3,9 @@
 /// How rough a cloud's outline is, measured on the images themselves: the
 /// box-counting dimension of the boundary of the pixels the cloud brightens,
 /// against the same frame rendered without it (render.extinction = 0; its
-/// shadows, which darken, are not the cloud). A
-/// disk's outline measures 1; real clouds' perimeters measure 1.33 to 1.35
+/// shadows, which darken, are not the cloud), or of the pixels a frame's
+/// alpha shows covered (measureOpacitySilhouette: the density's outline,
+/// whatever the light). A disk's outline measures 1; real clouds' perimeters measure 1.33 to 1.35
 /// over six decades of size (Lovejoy 1982, Science 216:185); smooth, blobby
 /// volumes 1.1 or less.
 ///
