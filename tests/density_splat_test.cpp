@@ -8,6 +8,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <tbb/global_control.h>
+
 #include <cmath>
 #include <map>
 #include <random>
@@ -236,6 +238,142 @@ TEST_CASE("density detail with dual rest: a rest reset at zero weight does not s
                  contrastBlended = detailContrast(blended, *smooth.density);
     INFO("detail contrast: " << contrastSingle << " from rest, " << contrastBlended << " blended");
     CHECK(contrastBlended == Approx(contrastSingle).epsilon(0.12));
+}
+
+namespace {
+
+/// Particles uniform in a ball of the given radius about (10, 10, 10), each at rest where it is.
+ParticleSet ballOfParticles(std::size_t n, double radius, uint64_t seed)
+{
+    ParticleSet particles;
+    std::mt19937_64 random(seed);
+    const auto u = [&random] { return 2.0 * double(random() >> 11) / double(1ull << 53) - 1.0; };
+    while (particles.size() < n) {
+        const Vec3d p(u(), u(), u());
+        if (p.length() > 1.0) continue;
+        particles.position.emplace_back(Vec3f(Vec3d(10.0) + p * radius));
+        particles.velocity.emplace_back(0.0f);
+        particles.rest.push_back(particles.position.back());
+        particles.id.push_back(uint32_t(particles.size()));
+        particles.radius.push_back(0.5f);
+        particles.cloud.push_back(0);
+    }
+    return particles;
+}
+
+/// Displaced detail over a range of 0.3 x (1 + 0.6 + 0.36 + 0.216) / 0.25 =
+/// 2.61 units: 1.46 out and 1.15 in; the surface where the splat's density is 1.
+VolumeOptions displacedOptions()
+{
+    VolumeOptions options;
+    options.voxelSize = 0.5;
+    options.kernelRadius = 1.25;
+    options.detail.voxelSize = 0.25;
+    options.detail.style = DetailStyle::Displaced;
+    options.detail.frequency = 0.25;
+    options.detail.octaves = 4;
+    options.detail.gain = 0.6;
+    options.detail.amplitude = 0.3;
+    options.detail.edgeSoftness = 2.0;
+    return options;
+}
+
+/// The distance from (10, 10, 10) of a grid's voxel.
+double fromCentre(const openvdb::FloatGrid& grid, const openvdb::Coord& voxel)
+{
+    return (grid.indexToWorld(voxel) - openvdb::Vec3d(10.0)).length();
+}
+
+} // namespace
+
+TEST_CASE("displaced detail: lumps stand out beyond the particles and creases cut in, as far as its range, and the "
+          "cloud keeps its size",
+          "[volume]")
+{
+    const ParticleSet particles = ballOfParticles(20000, 8.0, 6);
+    const VolumeOptions options = displacedOptions();
+    REQUIRE(options.detail.displacementRange() == Approx(2.61).epsilon(1e-3));
+    const double outward = 0.56 * options.detail.displacementRange(), inward = 0.44 * options.detail.displacementRange();
+    VolumeOptions plainOptions = options;
+    plainOptions.detail.voxelSize = 0.0;
+    const DensityGrids plain = splatParticles(particles, plainOptions);
+    const DensityGrids displaced = splatParticles(particles, options);
+    const double surfaceDensity = 0.5 * options.detail.edgeSoftness;
+
+    // The splat's surface: the farthest voxel at least as dense as it.
+    double surface = 0.0, plainVolume = 0.0;
+    for (auto it = plain.density->cbeginValueOn(); it; ++it)
+        if (*it >= surfaceDensity) {
+            surface = std::max(surface, fromCentre(*plain.density, it.getCoord()));
+            plainVolume += std::pow(plain.density->voxelSize()[0], 3);
+        }
+    REQUIRE(surface > 7.5);
+
+    const openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> splat(*plain.density);
+    double farthest = 0.0, volume = 0.0;
+    std::size_t nearSurface = 0, carved = 0, deep = 0, deepAtLeastEdge = 0;
+    const double fineVolume = std::pow(displaced.density->voxelSize()[0], 3);
+    for (auto it = displaced.density->cbeginValueOn(); it; ++it) {
+        const double r = fromCentre(*displaced.density, it.getCoord());
+        if (*it >= surfaceDensity) {
+            farthest = std::max(farthest, r);
+            volume += fineVolume;
+        }
+        if (r < surface - inward - 1.0) {
+            ++deep;
+            deepAtLeastEdge += *it >= options.detail.edgeSoftness;
+        }
+    }
+    // Creases: fine voxels within the splat's surface, above its deepest
+    // crease, that the displaced surface has left empty.
+    const auto accessor = displaced.density->getConstAccessor();
+    const openvdb::CoordBBox box = displaced.density->evalActiveVoxelBoundingBox();
+    for (auto c = box.begin(); c; ++c) {
+        const double r = fromCentre(*displaced.density, *c);
+        if (r < surface - 0.5 * inward || r > surface - 0.5) continue;
+        if (splat.wsSample(displaced.density->indexToWorld(*c)) < surfaceDensity) continue;
+        ++nearSurface;
+        carved += accessor.getValue(*c) < 0.1 * surfaceDensity;
+    }
+    INFO("splat surface " << surface << ", farthest displaced " << farthest << "; " << carved << " of " << nearSurface
+                          << " voxels just inside the surface carved; volume " << volume << " against " << plainVolume);
+    CHECK(farthest > surface + 0.5 * outward);
+    CHECK(farthest < surface + outward + 0.5);
+    CHECK(carved > nearSurface / 10);
+    CHECK(volume == Approx(plainVolume).epsilon(0.15));
+    // Deep inside, beyond the reach of every crease, the cloud is whole and at least edgeSoftness dense.
+    CHECK(deep > 1000);
+    CHECK(deepAtLeastEdge == deep);
+}
+
+TEST_CASE("displaced detail travels with the material and is the same for any thread count", "[volume]")
+{
+    ParticleSet particles = ballOfParticles(20000, 8.0, 7);
+    const VolumeOptions options = displacedOptions();
+    const DensityGrids before = splatParticles(particles, options);
+    {
+        const tbb::global_control oneThread(tbb::global_control::max_allowed_parallelism, 1);
+        CHECK(largestDifference(*before.density, *splatParticles(particles, options).density, openvdb::Coord(0)) == 0.0);
+    }
+    // Two splat voxels along x and one along z, rest positions kept: the
+    // lumps beyond the particles, where rest is carried off the surface, move too.
+    const Vec3f move(1.0f, 0.0f, 0.5f);
+    for (Vec3f& p : particles.position) p += move;
+    const DensityGrids moved = splatParticles(particles, options);
+    CHECK(largestDifference(*before.density, *moved.density, openvdb::Coord(4, 0, 2)) < 1e-3);
+    // At rest where they now are, the same particles grow other lumps.
+    particles.rest = particles.position;
+    CHECK(largestDifference(*before.density, *splatParticles(particles, options).density, openvdb::Coord(4, 0, 2)) > 0.5);
+}
+
+TEST_CASE("displaced detail: a range over more voxels than are swept is refused, naming the amplitude", "[volume]")
+{
+    VolumeOptions options = displacedOptions();
+    options.detail.amplitude = 4.0;
+    options.detail.frequency = 0.05; // 4 x 2.18 / 0.05 = 174 units, 348 voxels of 0.5
+    CHECK_THROWS_WITH(options.validate(), Catch::Contains("detail/amplitude") && Catch::Contains("more than 64 voxels"));
+    options.detail.style = DetailStyle::Billows;
+    CHECK_NOTHROW(options.validate());
 }
 
 TEST_CASE("density splat: the cutoff leaves out the kernels' fringe below its share of a lone particle's peak, "

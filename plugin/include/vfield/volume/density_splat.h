@@ -49,13 +49,31 @@ enum class DetailStyle {
     /// its edge jumps to half edgeSoftness (fading only in the kernels'
     /// faintest fringe, so that it ends where the splat does):
     ///   density' = max(density, min(edgeSoftness / 2, 8 density)) x smoothstep(0.45, 0.55, x)
-    /// so the outline a viewer sees is the surface's, lumps on lumps.
-    Billows
+    /// so the outline a viewer sees is the surface's, lumps on lumps. The
+    /// surface moves by amplitude b over the density's gradient, a voxel or
+    /// two where the kernels end: the lumps lie inside the outline more than
+    /// on it (a cumulus's opacity measured 1.06).
+    Billows,
+    /// Lumps on lumps at every scale, each standing out about as far as it
+    /// is wide: the cloud is what lies inside the splat's surface (where its
+    /// density is edgeSoftness / 2) moved out along its normal by
+    ///   h = amplitude x (1 + gain + gain^2 + ...) / frequency x (b - 0.44)
+    /// world units, with b = billow(frequency x rest) in [0, 1] and 0.44 its
+    /// mean, so the cloud keeps its size: lumps stand out where b is high,
+    /// creases cut in where it is low. Inside, the density is the splat's but
+    /// at least edgeSoftness, so that a lump as small as the finest octave
+    /// still shows; the surface fades over one fine voxel. The outline is
+    /// rough down to the finest octave (a cumulus's opacity measured 1.3).
+    /// Beyond the particles, the rest positions are carried off the splat's
+    /// surface along its normals (as offsets from the world position), so
+    /// the lumps move with the cloud.
+    Displaced
 };
-inline constexpr EnumName<DetailStyle> kDetailStyleNames[] = {{DetailStyle::Erode, "erode"}, {DetailStyle::Billows, "billows"}};
+inline constexpr EnumName<DetailStyle> kDetailStyleNames[] = {
+    {DetailStyle::Erode, "erode"}, {DetailStyle::Billows, "billows"}, {DetailStyle::Displaced, "displaced"}};
 constexpr const auto& enumNames(DetailStyle) { return kDetailStyleNames; }
 
-/// Noise detail finer than the particles, eroding or billowing the cloud (DetailStyle).
+/// Noise detail finer than the particles, eroding, billowing or displacing the cloud (DetailStyle).
 struct VolumeDetail {
     double voxelSize =
         0.0; ///< detail voxel size, world units (0..1e9); 0: no detail. Rounded so that it divides the splat's voxel
@@ -72,6 +90,9 @@ struct VolumeDetail {
 
     bool enabled() const { return voxelSize > 0.0; }
     void validate() const;
+    /// The world units a Displaced surface moves over, in and out:
+    /// amplitude x (1 + gain + ... + gain^(octaves - 1)) / frequency.
+    double displacementRange() const;
 
     template<typename Self, typename Visitor>
     static void visitFields(Self& self, Visitor& visit)
@@ -89,8 +110,10 @@ struct VolumeDetail {
                   .range(0.1, 0.95)
                   .doc("amplitude ratio of successive octaves: 0.5 is smooth; larger is rougher, outlines of fractal "
                        "dimension about 2 + log2(gain) over the octaves' scales (real clouds: 1.33 to 1.35, gain 0.63)"));
-        visit(
-            field("amplitude", self.amplitude).range(0, 4).doc("how strongly the noise billows the inside and erodes the edges"));
+        visit(field("amplitude", self.amplitude)
+                  .range(0, 4)
+                  .doc("how strongly the noise billows the inside and erodes the edges; displaced: how far a lump stands "
+                       "out per unit of its width"));
         visit(field("edgeSoftness", self.edgeSoftness)
                   .range(0, 1e12)
                   .unit("density units")
@@ -98,7 +121,10 @@ struct VolumeDetail {
                   .doc("density over which the edges are eroded; larger erodes deeper; 0: the default"));
         visit(field("style", self.style)
                   .doc("erode: soft edges eroded into wisps; billows: a crisp cauliflower surface, lumps on lumps (billow "
-                       "noise), the edge jumping to half edgeSoftness"));
+                       "noise), the edge jumping to half edgeSoftness; displaced: the splat's surface moved in and out "
+                       "by billow noise over a range of amplitude x (1 + gain + gain^2 + ...) / frequency world units, "
+                       "lumps on lumps standing out about as far as they are wide, the outline rough down to the finest "
+                       "octave"));
         visit(field("seed", self.seed).doc("noise seed"));
     }
 };
@@ -140,6 +166,9 @@ constexpr const auto& enumNames(GridPrecision) { return kGridPrecisionNames; }
 
 struct VolumeOptions {
     static constexpr double kMaxKernelVoxels = 32.0; ///< the kernel's radius spans at most this many voxels
+    /// A displaced surface (DetailStyle::Displaced) moves over at most this
+    /// many voxels: its distance to the splat's surface is swept over them.
+    static constexpr double kMaxDisplacementVoxels = 64.0;
 
     double voxelSize = 0.0;    ///< world units (0..1e9); 0: the particles' mean radius
     double kernelRadius = 0.0; ///< world units (0..1e9): the spread of the smooth kernel matched; 0: 2 x the particles' mean
@@ -155,8 +184,9 @@ struct VolumeOptions {
     GridPrecision velocityPrecision = GridPrecision::Half;            ///< of density.####.vdb's `vel`
     ParticlePrecision particlePrecision = ParticlePrecision::Compact; ///< of particles.####.vdb
 
-    /// Throws OptionError naming the first option out of range, or a kernel
-    /// spanning more than kMaxKernelVoxels voxels.
+    /// Throws OptionError naming the first option out of range, a kernel
+    /// spanning more than kMaxKernelVoxels voxels, or a displaced detail
+    /// moving over more than kMaxDisplacementVoxels.
     void validate() const;
     /// These options with the defaults filled in for particles of the given
     /// mean radius: the only place the defaults are computed. Unchecked: call
