@@ -366,6 +366,20 @@ TEST_CASE("displaced detail travels with the material and is the same for any th
     CHECK(largestDifference(*before.density, *splatParticles(particles, options).density, openvdb::Coord(4, 0, 2)) > 0.5);
 }
 
+TEST_CASE("displaced detail leaves a cloud nowhere as dense as its surface as the splat made it", "[volume]")
+{
+    const ParticleSet particles = ballOfParticles(200, 8.0, 8);
+    VolumeOptions options = displacedOptions();
+    options.detail.edgeSoftness = 4.0; // a surface at 2, over the peaks of these few particles
+    options.cutoff = 0.0;
+    VolumeOptions plainOptions = options;
+    plainOptions.detail.voxelSize = 0.0;
+    const DensityGrids displaced = splatParticles(particles, options), plain = splatParticles(particles, plainOptions);
+    REQUIRE(openvdb::tools::minMax(plain.density->tree()).max() < 0.5 * options.detail.edgeSoftness);
+    CHECK(displaced.density->voxelSize()[0] == Approx(0.5));
+    CHECK(largestDifference(*plain.density, *displaced.density, openvdb::Coord(0)) == 0.0);
+}
+
 TEST_CASE("displaced detail: a range over more voxels than are swept is refused, naming the amplitude", "[volume]")
 {
     VolumeOptions options = displacedOptions();

@@ -63,7 +63,7 @@ enum class DetailStyle {
     /// creases cut in where it is low. Inside, the density is the splat's but
     /// at least edgeSoftness, so that a lump as small as the finest octave
     /// still shows; the surface fades over one fine voxel. The outline is
-    /// rough down to the finest octave (a cumulus's opacity measured 1.3).
+    /// rough down to the finest octave (a cumulus's opacity measured 1.28).
     /// Beyond the particles, the rest positions are carried off the splat's
     /// surface along its normals (as offsets from the world position), so
     /// the lumps move with the cloud.
