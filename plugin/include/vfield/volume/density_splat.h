@@ -54,9 +54,11 @@ enum class DetailStyle {
     /// two where the kernels end: the lumps lie inside the outline more than
     /// on it (a cumulus's opacity measured 1.06).
     Billows,
-    /// Lumps on lumps at every scale, each standing out about as far as it
-    /// is wide: the cloud is what lies inside the splat's surface (where its
-    /// density is edgeSoftness / 2) moved out along its normal by
+    /// Lumps on lumps at every scale, octave i's standing out up to about
+    /// amplitude x (2 gain)^i times their width (alike at every scale at gain
+    /// 0.5, relatively more at the finer ones above it): the cloud is what
+    /// lies inside the splat's surface (where its density is edgeSoftness /
+    /// 2) moved out along its normal by
     ///   h = amplitude x (1 + gain + gain^2 + ...) / frequency x (b - 0.44)
     /// world units, with b = billow(frequency x rest) in [0, 1] and 0.44 its
     /// mean, so the cloud keeps its size: lumps stand out where b is high,
@@ -112,8 +114,8 @@ struct VolumeDetail {
                        "dimension about 2 + log2(gain) over the octaves' scales (real clouds: 1.33 to 1.35, gain 0.63)"));
         visit(field("amplitude", self.amplitude)
                   .range(0, 4)
-                  .doc("how strongly the noise billows the inside and erodes the edges; displaced: how far a lump stands "
-                       "out per unit of its width"));
+                  .doc("how strongly the noise billows the inside and erodes the edges; displaced: how far the coarsest "
+                       "octave's lumps stand out per unit of their width"));
         visit(field("edgeSoftness", self.edgeSoftness)
                   .range(0, 1e12)
                   .unit("density units")
@@ -123,8 +125,7 @@ struct VolumeDetail {
                   .doc("erode: soft edges eroded into wisps; billows: a crisp cauliflower surface, lumps on lumps (billow "
                        "noise), the edge jumping to half edgeSoftness; displaced: the splat's surface moved in and out "
                        "by billow noise over a range of amplitude x (1 + gain + gain^2 + ...) / frequency world units, "
-                       "lumps on lumps standing out about as far as they are wide, the outline rough down to the finest "
-                       "octave"));
+                       "lumps on lumps at every octave, the outline rough down to the finest"));
         visit(field("seed", self.seed).doc("noise seed"));
     }
 };
