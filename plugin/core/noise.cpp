@@ -120,7 +120,7 @@ constexpr int kMaxBatchOctaves = 64;
 void octaveNoise(const GradientNoise& noise, const FbmQuery* queries, std::size_t count, float* values)
 {
     // Three past the last: a run of four starting at any octave stays inside.
-    std::array<float, kMaxBatchOctaves + 3> x{}, y{}, z{};
+    std::array<float, kMaxBatchOctaves + 3> x, y, z;
     int octaves = 0;
     for (std::size_t q = 0; q < count; ++q) {
         const FractalOptions& options = queries[q].options;
@@ -138,9 +138,14 @@ void octaveNoise(const GradientNoise& noise, const FbmQuery* queries, std::size_
             frequency *= float(options.lacunarity);
         }
     }
+    // Lanes past the last octave read zeros, unused (set only those: the
+    // whole arrays cost as much as a noise value to clear).
+    std::fill_n(x.begin() + octaves, 3, 0.0f);
+    std::fill_n(y.begin() + octaves, 3, 0.0f);
+    std::fill_n(z.begin() + octaves, 3, 0.0f);
     int octave = 0;
     for (; octaves - octave >= 2; octave += 4) {
-        std::array<float, 4> lx, ly, lz; // lanes past the last octave read zeros, unused
+        std::array<float, 4> lx, ly, lz;
         std::memcpy(lx.data(), &x[octave], sizeof(lx));
         std::memcpy(ly.data(), &y[octave], sizeof(ly));
         std::memcpy(lz.data(), &z[octave], sizeof(lz));

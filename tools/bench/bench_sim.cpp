@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <utility>
 
 using namespace vfield;
 using namespace vfield::bench;
@@ -70,6 +71,37 @@ BENCHMARK(BM_DensitySplat)
     ->Arg(250'000)
     ->Arg(500'000)
     ->Arg(1'000'000)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+/// The detail stage alone (SplatSeconds::detail) on the lone cumulus
+/// (scenes/features/cumulus.json) at frame 2, in each style: its splat's
+/// density shaped by noise on the detail's finer grid.
+void BM_DetailStage(benchmark::State& state)
+{
+    static const std::pair<Scene, std::unique_ptr<Simulator>> cumulus = [] {
+        Scene scene = loadScene(VFIELD_SCENES_DIR "/features/cumulus.json");
+        auto simulator = std::make_unique<Simulator>(scene.simulation);
+        while (simulator->frame() < 2) simulator->advanceFrame();
+        return std::make_pair(std::move(scene), std::move(simulator));
+    }();
+    VolumeOptions volume = cumulus.first.volume;
+    volume.detail.style = DetailStyle(state.range(0));
+    double detailSeconds = 0.0;
+    std::size_t voxels = 0;
+    for (auto _ : state) {
+        SplatSeconds seconds;
+        const DensityGrids grids = splatParticles(cumulus.second->particles(), volume, &seconds);
+        detailSeconds += seconds.detail;
+        voxels = grids.density->activeVoxelCount();
+    }
+    state.counters["detail_s"] = detailSeconds / double(state.iterations());
+    state.counters["voxels"] = double(voxels);
+}
+BENCHMARK(BM_DetailStage)
+    ->ArgName("style")
+    ->Arg(int(DetailStyle::Billows))
+    ->Arg(int(DetailStyle::Displaced))
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

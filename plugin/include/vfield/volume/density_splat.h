@@ -62,7 +62,12 @@ enum class DetailStyle {
     ///   h = amplitude x (1 + gain + gain^2 + ...) / frequency x (b - 0.44)
     /// world units, with b = billow(frequency x rest) in [0, 1] and 0.44 its
     /// mean, so the cloud keeps its size: lumps stand out where b is high,
-    /// creases cut in where it is low. Inside, the density is the splat's but
+    /// creases cut in where it is low. The coarse octaves, those with a
+    /// lattice cell of at least four of the splat's voxels, are summed on the
+    /// splat's voxels and read trilinearly between them; the others on the
+    /// detail's, only near the surface the coarse ones moved; each part is a
+    /// billow of its own octaves, moving the surface by its octaves' share of
+    /// the sum 1 + gain + gain^2 + .... Inside, the density is the splat's but
     /// at least edgeSoftness, so that a lump as small as the finest octave
     /// still shows; the surface fades over one fine voxel. The outline is
     /// rough down to the finest octave (a cumulus's opacity measured 1.28).
