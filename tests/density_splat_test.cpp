@@ -380,7 +380,7 @@ TEST_CASE("displaced detail leaves a cloud nowhere as dense as its surface as th
     CHECK(largestDifference(*plain.density, *displaced.density, openvdb::Coord(0)) == 0.0);
 }
 
-TEST_CASE("displaced detail: a range over more voxels than are swept is refused, naming the amplitude", "[volume]")
+TEST_CASE("displaced detail: a range over more than 64 splat voxels is refused, naming the amplitude", "[volume]")
 {
     VolumeOptions options = displacedOptions();
     options.detail.amplitude = 4.0;

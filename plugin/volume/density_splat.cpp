@@ -397,6 +397,113 @@ openvdb::FloatGrid::Ptr detailedDensity(const openvdb::FloatGrid& density, const
     });
 }
 
+/// The splat's surface, where its density is surfaceDensity: the signed
+/// distance to it (world units, negative inside) and each voxel's closest
+/// point on it (index space), over the density's voxels and `layers` more
+/// around them.
+struct SurfaceDistance {
+    openvdb::FloatGrid::Ptr distance;
+    openvdb::Vec3SGrid::Ptr closest;
+
+    SurfaceDistance(const openvdb::FloatGrid& density, float surfaceDensity, int layers);
+};
+
+/// Within the density, OpenVDB's fast sweeping gives the distance d, and
+/// the closest point lies down its gradient, x - d grad d. Beyond, layer by
+/// layer, each voxel takes the nearest of its neighbours' closest points (a
+/// vector distance transform grown as a front, after Danielsson): sweeping
+/// the distance over those voxels (tools::maskSdf), then the offsets to the
+/// rest positions along it (tools::sdfToExt), took half the bank's detail.
+SurfaceDistance::SurfaceDistance(const openvdb::FloatGrid& density, float surfaceDensity, int layers)
+    : distance(openvdb::tools::fogToSdf(density, surfaceDensity)), closest(openvdb::Vec3SGrid::create())
+{
+    const double voxel = density.voxelSize()[0];
+    closest->setTransform(density.transform().copy());
+    closest->tree().topologyUnion(distance->tree());
+    openvdb::tree::LeafManager<openvdb::Vec3STree>(closest->tree())
+        .foreach ([&](openvdb::Vec3STree::LeafNodeType& leaf, std::size_t) {
+            const auto distanceAt = distance->getConstAccessor();
+            for (auto v = leaf.beginValueOn(); v; ++v) {
+                const openvdb::Coord c = v.getCoord();
+                const double d = distanceAt.getValue(c);
+                // Central differences, one-sided where a neighbour lies beyond the density.
+                openvdb::Vec3d gradient;
+                for (int axis = 0; axis < 3; ++axis) {
+                    openvdb::Coord below = c, above = c;
+                    --below[axis];
+                    ++above[axis];
+                    float atBelow = 0.0f, atAbove = 0.0f;
+                    const bool hasBelow = distanceAt.probeValue(below, atBelow), hasAbove = distanceAt.probeValue(above, atAbove);
+                    gradient[axis] = hasBelow && hasAbove ? 0.5 * (double(atAbove) - double(atBelow))
+                                     : hasAbove           ? double(atAbove) - d
+                                     : hasBelow           ? d - double(atBelow)
+                                                          : 0.0;
+                }
+                const double length = gradient.length();
+                v.setValue(
+                    openvdb::Vec3s(c.asVec3d() - (length > 0.0 ? gradient * (d / (voxel * length)) : openvdb::Vec3d(0.0))));
+            }
+        });
+
+    // Each layer reads the finished layers before it and is written apart,
+    // merged when whole: the same for any thread count.
+    const openvdb::MaskGrid::Ptr front = topologyOf(*distance);
+    openvdb::MaskTree known(front->tree(), false, openvdb::TopologyCopy());
+    for (int layer = 0; layer < layers; ++layer) {
+        openvdb::tools::dilateActiveValues(front->tree(), 1, openvdb::tools::NN_FACE_EDGE_VERTEX, openvdb::tools::IGNORE_TILES);
+        front->tree().topologyDifference(known);
+        known.topologyUnion(front->tree());
+        openvdb::Vec3STree layerClosest(front->tree(), openvdb::Vec3s(0.0f), openvdb::TopologyCopy());
+        openvdb::FloatTree layerDistance(front->tree(), distance->background(), openvdb::TopologyCopy());
+        openvdb::tree::LeafManager<openvdb::Vec3STree>(layerClosest)
+            .foreach ([&](openvdb::Vec3STree::LeafNodeType& leaf, std::size_t) {
+                const auto closestAt = closest->getConstAccessor();
+                openvdb::FloatTree::LeafNodeType& distanceLeaf = *layerDistance.probeLeaf(leaf.origin());
+                for (auto v = leaf.beginValueOn(); v; ++v) {
+                    const openvdb::Coord c = v.getCoord();
+                    double nearest = std::numeric_limits<double>::infinity();
+                    openvdb::Vec3s best(0.0f);
+                    for (int dx = -1; dx <= 1; ++dx)
+                        for (int dy = -1; dy <= 1; ++dy)
+                            for (int dz = -1; dz <= 1; ++dz) {
+                                openvdb::Vec3s candidate;
+                                if (!closestAt.probeValue(c.offsetBy(dx, dy, dz), candidate)) continue;
+                                const double squared = (openvdb::Vec3d(candidate) - c.asVec3d()).lengthSqr();
+                                if (squared < nearest) {
+                                    nearest = squared;
+                                    best = candidate;
+                                }
+                            }
+                    v.setValue(best);
+                    distanceLeaf.setValueOnly(v.pos(), float(std::sqrt(nearest) * voxel));
+                }
+            });
+        closest->tree().merge(layerClosest);
+        distance->tree().merge(layerDistance);
+    }
+}
+
+/// The offset rest - world at each voxel's closest point on the surface:
+/// beyond the particles, where there are no rest positions, the noise moves
+/// with the surface and still varies along its normals.
+openvdb::Vec3SGrid::Ptr offsetsFromSurface(const openvdb::Vec3SGrid& closest, const openvdb::Vec3SGrid& rest)
+{
+    const double voxel = closest.voxelSize()[0]; // the transform is a pure scale, as the splat's
+    openvdb::Vec3SGrid::Ptr offsets = openvdb::Vec3SGrid::create();
+    offsets->setTransform(closest.transform().copy());
+    offsets->tree().topologyUnion(closest.tree());
+    openvdb::tree::LeafManager<openvdb::Vec3STree>(offsets->tree())
+        .foreach ([&](openvdb::Vec3STree::LeafNodeType& leaf, std::size_t) {
+            const auto closestAt = closest.getConstAccessor();
+            TrilinearSampler<openvdb::Vec3STree> restAt(rest.tree());
+            for (auto v = leaf.beginValueOn(); v; ++v) {
+                const openvdb::Vec3d point(closestAt.getValue(v.getCoord()));
+                v.setValue(openvdb::Vec3s(openvdb::Vec3d(restAt.atIndex(point)) - point * voxel));
+            }
+        });
+    return offsets;
+}
+
 /// The mean of billow noise (twice the mean |noise| of Perlin's improved
 /// noise, measured over 216,000 points; the same for any octaves, as billow
 /// normalizes its sum): a displaced surface moves out by as much as in.
@@ -453,29 +560,11 @@ openvdb::FloatGrid::Ptr displacedDensity(const openvdb::FloatGrid& density, cons
     const double coarseOutward = split.coarseRange * (1.0 - kMeanBillow);
     const double fineOutward = split.fineRange * (1.0 - kMeanBillow), fineInward = split.fineRange * kMeanBillow;
 
-    // The signed distance to the splat's surface (world units, negative
-    // inside), over every coarse voxel the moved surface can reach.
-    const openvdb::MaskGrid::Ptr reach = topologyOf(density);
-    openvdb::tools::dilateActiveValues(reach->tree(), int(std::ceil((coarseOutward + fineOutward) / coarse)) + 1,
-                                       openvdb::tools::NN_FACE_EDGE_VERTEX, openvdb::tools::IGNORE_TILES);
-    const openvdb::FloatGrid::Ptr distance = openvdb::tools::maskSdf(*openvdb::tools::fogToSdf(density, surfaceDensity), *reach);
-    // Beyond the particles there are no rest positions: the offset rest -
-    // world at the surface is carried along its normals, so the noise there
-    // moves with the surface and still varies along the normal.
-    // OpenVDB 10's sweeping hands the functor points in index space (its
-    // extension grid is made without the SDF's transform), so it sweeps a
-    // copy whose world space is its index space: the points are the same
-    // whichever space a later version hands over.
-    const openvdb::FloatGrid::Ptr distanceInIndexSpace = distance->copy();
-    distanceInIndexSpace->setTransform(openvdb::math::Transform::createLinearTransform(1.0));
+    // The signed distance to the splat's surface over every coarse voxel
+    // the moved surface can reach, and the rest positions' offsets there.
+    SurfaceDistance surface(density, surfaceDensity, int(std::ceil((coarseOutward + fineOutward) / coarse)) + 1);
     std::vector<openvdb::Vec3SGrid::Ptr> offsets;
-    for (const auto& rest : rests) {
-        const auto offsetAt = [&](const openvdb::Vec3d& index) {
-            const openvdb::Vec3d rested(openvdb::tools::BoxSampler::sample(rest->tree(), index));
-            return openvdb::Vec3s(rested - density.transform().indexToWorld(index));
-        };
-        offsets.push_back(openvdb::tools::sdfToExt(*distanceInIndexSpace, offsetAt, openvdb::Vec3s(0.0f), 0.0f));
-    }
+    for (const auto& rest : rests) offsets.push_back(offsetsFromSurface(*surface.closest, *rest));
 
     const GradientNoise noise(detail.seed);
     const float frequency = float(detail.frequency);
@@ -496,7 +585,7 @@ openvdb::FloatGrid::Ptr displacedDensity(const openvdb::FloatGrid& density, cons
     // less it is zero on the surface they moved, and the fine octaves move
     // that surface in turn, as one sum of all the octaves would. Its
     // background: as far outside as the splat's distance's.
-    openvdb::FloatGrid::Ptr movedDistance = distance->deepCopy();
+    const openvdb::FloatGrid::Ptr movedDistance = surface.distance; // moved in place
     openvdb::tree::LeafManager<openvdb::FloatTree>(movedDistance->tree())
         .foreach ([&](openvdb::FloatTree::LeafNodeType& leaf, std::size_t) {
             std::vector<openvdb::Vec3SGrid::ConstAccessor> offsetAt;
@@ -516,7 +605,7 @@ openvdb::FloatGrid::Ptr displacedDensity(const openvdb::FloatGrid& density, cons
     struct OffsetNeighbourhood {
         openvdb::Vec3s n[3][3][3];
     };
-    return resampleFiner(density, *reach, ratio, [&] {
+    return resampleFiner(density, *topologyOf(*movedDistance), ratio, [&] {
         std::vector<openvdb::Vec3SGrid::ConstAccessor> offsetAt;
         for (const auto& offset : offsets) offsetAt.push_back(offset->getConstAccessor());
         return [&, densityAt = density.getConstAccessor(), distanceAt = movedDistance->getConstAccessor(),

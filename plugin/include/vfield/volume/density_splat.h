@@ -173,7 +173,7 @@ constexpr const auto& enumNames(GridPrecision) { return kGridPrecisionNames; }
 struct VolumeOptions {
     static constexpr double kMaxKernelVoxels = 32.0; ///< the kernel's radius spans at most this many voxels
     /// A displaced surface (DetailStyle::Displaced) moves over at most this
-    /// many voxels: its distance to the splat's surface is swept over them.
+    /// many voxels: its distance to the splat's surface is grown over them, a layer a voxel.
     static constexpr double kMaxDisplacementVoxels = 64.0;
 
     double voxelSize = 0.0;    ///< world units (0..1e9); 0: the particles' mean radius
