@@ -408,6 +408,31 @@ struct SurfaceDistance {
     SurfaceDistance(const openvdb::FloatGrid& density, float surfaceDensity, int layers);
 };
 
+/// The leaves around one leaf of a tree, 3 x 3 x 3, null where there is
+/// none: a voxel's neighbours are read from them without descending the
+/// tree.
+template<typename TreeT>
+struct LeafNeighbourhood {
+    using LeafT = typename TreeT::LeafNodeType;
+    static constexpr int kDim = int(LeafT::DIM);
+    std::array<LeafT*, 27> leaves{};
+
+    LeafNeighbourhood(TreeT& tree, const openvdb::Coord& origin)
+    {
+        for (int n = 0; n < 27; ++n)
+            leaves[std::size_t(n)] =
+                tree.probeLeaf(origin.offsetBy((n / 9 - 1) * kDim, (n / 3 % 3 - 1) * kDim, (n % 3 - 1) * kDim));
+    }
+    /// The leaf holding voxel (x, y, z), each coordinate in -1..kDim from
+    /// the middle leaf's origin, and the voxel's offset in that leaf.
+    std::pair<LeafT*, openvdb::Index> at(int x, int y, int z) const
+    {
+        const auto slot = [](int v) { return v < 0 ? 0 : v < kDim ? 1 : 2; };
+        LeafT* leaf = leaves[std::size_t(slot(x) * 9 + slot(y) * 3 + slot(z))];
+        return {leaf, LeafT::coordToOffset(openvdb::Coord(x & (kDim - 1), y & (kDim - 1), z & (kDim - 1)))};
+    }
+};
+
 /// Within the density, OpenVDB's fast sweeping gives the distance d, and
 /// the closest point lies down its gradient, x - d grad d. Beyond, layer by
 /// layer, each voxel takes the nearest of its neighbours' closest points (a
@@ -418,68 +443,73 @@ SurfaceDistance::SurfaceDistance(const openvdb::FloatGrid& density, float surfac
     : distance(openvdb::tools::fogToSdf(density, surfaceDensity)), closest(openvdb::Vec3SGrid::create())
 {
     const double voxel = density.voxelSize()[0];
+    openvdb::MaskTree known(distance->tree(), false, openvdb::TopologyCopy());
+    openvdb::MaskTree front(known, false, openvdb::TopologyCopy());
     closest->setTransform(density.transform().copy());
-    closest->tree().topologyUnion(distance->tree());
-    openvdb::tree::LeafManager<openvdb::Vec3STree>(closest->tree())
-        .foreach ([&](openvdb::Vec3STree::LeafNodeType& leaf, std::size_t) {
-            const auto distanceAt = distance->getConstAccessor();
-            for (auto v = leaf.beginValueOn(); v; ++v) {
-                const openvdb::Coord c = v.getCoord();
-                const double d = distanceAt.getValue(c);
-                // Central differences, one-sided where a neighbour lies beyond the density.
-                openvdb::Vec3d gradient;
-                for (int axis = 0; axis < 3; ++axis) {
-                    openvdb::Coord below = c, above = c;
-                    --below[axis];
-                    ++above[axis];
-                    float atBelow = 0.0f, atAbove = 0.0f;
-                    const bool hasBelow = distanceAt.probeValue(below, atBelow), hasAbove = distanceAt.probeValue(above, atAbove);
-                    gradient[axis] = hasBelow && hasAbove ? 0.5 * (double(atAbove) - double(atBelow))
-                                     : hasAbove           ? double(atAbove) - d
-                                     : hasBelow           ? d - double(atBelow)
-                                                          : 0.0;
-                }
-                const double length = gradient.length();
-                v.setValue(
-                    openvdb::Vec3s(c.asVec3d() - (length > 0.0 ? gradient * (d / (voxel * length)) : openvdb::Vec3d(0.0))));
-            }
-        });
+    closest->tree().topologyUnion(known);
 
-    // Each layer reads the finished layers before it and is written apart,
-    // merged when whole: the same for any thread count.
-    const openvdb::MaskGrid::Ptr front = topologyOf(*distance);
-    openvdb::MaskTree known(front->tree(), false, openvdb::TopologyCopy());
+    openvdb::tree::LeafManager<openvdb::MaskTree>(known).foreach ([&](const openvdb::MaskTree::LeafNodeType& leaf, std::size_t) {
+        const auto distanceAt = distance->getConstAccessor();
+        const openvdb::tree::ValueAccessor<const openvdb::MaskTree> knownAt(known);
+        openvdb::Vec3STree::LeafNodeType& closestLeaf = *closest->tree().probeLeaf(leaf.origin());
+        for (auto v = leaf.cbeginValueOn(); v; ++v) {
+            const openvdb::Coord c = v.getCoord();
+            const double d = distanceAt.getValue(c);
+            // Central differences, one-sided where a neighbour lies beyond the density.
+            openvdb::Vec3d gradient;
+            for (int axis = 0; axis < 3; ++axis) {
+                openvdb::Coord below = c, above = c;
+                --below[axis];
+                ++above[axis];
+                const bool hasBelow = knownAt.isValueOn(below), hasAbove = knownAt.isValueOn(above);
+                const double atBelow = distanceAt.getValue(below), atAbove = distanceAt.getValue(above);
+                gradient[axis] = hasBelow && hasAbove ? 0.5 * (atAbove - atBelow)
+                                 : hasAbove           ? atAbove - d
+                                 : hasBelow           ? d - atBelow
+                                                      : 0.0;
+            }
+            const double length = gradient.length();
+            closestLeaf.setValueOnly(
+                v.pos(), openvdb::Vec3s(c.asVec3d() - (length > 0.0 ? gradient * (d / (voxel * length)) : openvdb::Vec3d(0.0))));
+        }
+    });
+
+    // A layer reads only the voxels of the layers before it, finished, and
+    // each of its voxels is written by one task, without changing the trees:
+    // the same for any thread count.
     for (int layer = 0; layer < layers; ++layer) {
-        openvdb::tools::dilateActiveValues(front->tree(), 1, openvdb::tools::NN_FACE_EDGE_VERTEX, openvdb::tools::IGNORE_TILES);
-        front->tree().topologyDifference(known);
-        known.topologyUnion(front->tree());
-        openvdb::Vec3STree layerClosest(front->tree(), openvdb::Vec3s(0.0f), openvdb::TopologyCopy());
-        openvdb::FloatTree layerDistance(front->tree(), distance->background(), openvdb::TopologyCopy());
-        openvdb::tree::LeafManager<openvdb::Vec3STree>(layerClosest)
-            .foreach ([&](openvdb::Vec3STree::LeafNodeType& leaf, std::size_t) {
-                const auto closestAt = closest->getConstAccessor();
-                openvdb::FloatTree::LeafNodeType& distanceLeaf = *layerDistance.probeLeaf(leaf.origin());
-                for (auto v = leaf.beginValueOn(); v; ++v) {
-                    const openvdb::Coord c = v.getCoord();
+        openvdb::tools::dilateActiveValues(front, 1, openvdb::tools::NN_FACE_EDGE_VERTEX, openvdb::tools::IGNORE_TILES);
+        front.topologyDifference(known);
+        // The layer's voxels made first: the tasks then only fill in values.
+        closest->tree().topologyUnion(front);
+        distance->tree().topologyUnion(front);
+        openvdb::tree::LeafManager<openvdb::MaskTree>(front).foreach (
+            [&](const openvdb::MaskTree::LeafNodeType& leaf, std::size_t) {
+                const LeafNeighbourhood<openvdb::MaskTree> knownAround(known, leaf.origin());
+                const LeafNeighbourhood<openvdb::Vec3STree> closestAround(closest->tree(), leaf.origin());
+                openvdb::FloatTree::LeafNodeType& distanceLeaf = *distance->tree().probeLeaf(leaf.origin());
+                for (auto v = leaf.cbeginValueOn(); v; ++v) {
+                    const openvdb::Coord local = v.getCoord() - leaf.origin();
                     double nearest = std::numeric_limits<double>::infinity();
                     openvdb::Vec3s best(0.0f);
                     for (int dx = -1; dx <= 1; ++dx)
                         for (int dy = -1; dy <= 1; ++dy)
                             for (int dz = -1; dz <= 1; ++dz) {
-                                openvdb::Vec3s candidate;
-                                if (!closestAt.probeValue(c.offsetBy(dx, dy, dz), candidate)) continue;
-                                const double squared = (openvdb::Vec3d(candidate) - c.asVec3d()).lengthSqr();
+                                const int x = local.x() + dx, y = local.y() + dy, z = local.z() + dz;
+                                const auto [knownLeaf, offset] = knownAround.at(x, y, z);
+                                if (!knownLeaf || !knownLeaf->isValueOn(offset)) continue;
+                                const openvdb::Vec3s candidate = closestAround.at(x, y, z).first->getValue(offset);
+                                const double squared = (openvdb::Vec3d(candidate) - v.getCoord().asVec3d()).lengthSqr();
                                 if (squared < nearest) {
                                     nearest = squared;
                                     best = candidate;
                                 }
                             }
-                    v.setValue(best);
+                    closestAround.leaves[13]->setValueOnly(v.pos(), best);
                     distanceLeaf.setValueOnly(v.pos(), float(std::sqrt(nearest) * voxel));
                 }
             });
-        closest->tree().merge(layerClosest);
-        distance->tree().merge(layerDistance);
+        known.topologyUnion(front);
     }
 }
 
