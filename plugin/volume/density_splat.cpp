@@ -629,35 +629,45 @@ openvdb::FloatGrid::Ptr displacedDensity(const openvdb::FloatGrid& density, cons
                 voxel.setValue(float(double(*voxel) - h));
             }
         });
-    // The fine octaves, on the detail's grid, within their range of that surface.
+    // The fine octaves, on the detail's grid, within their range of that
+    // surface: only in the coarse voxels that have a voxel within that range
+    // among their 3 x 3 x 3 (each fine voxel reads the 2 x 2 x 2 coarse ones
+    // around it). The others' blocks are empty; most of the voxels the
+    // moved surface could reach are, and reading their neighbourhoods to
+    // find so took a third of the fine octaves' time.
+    const double farthestLump = fineOutward + fine;
+    const openvdb::MaskGrid::Ptr nearSurface = topologyOf(*movedDistance);
+    openvdb::tree::LeafManager<openvdb::MaskTree>(nearSurface->tree())
+        .foreach ([&](openvdb::MaskTree::LeafNodeType& leaf, std::size_t) {
+            const openvdb::FloatTree::LeafNodeType& distances = *movedDistance->tree().probeConstLeaf(leaf.origin());
+            for (auto v = leaf.beginValueOn(); v; ++v)
+                if (double(distances.getValue(v.pos())) > farthestLump) leaf.setValueOff(v.pos());
+        });
+    openvdb::tools::dilateActiveValues(nearSurface->tree(), 1, openvdb::tools::NN_FACE_EDGE_VERTEX, openvdb::tools::IGNORE_TILES);
+    nearSurface->tree().topologyIntersection(movedDistance->tree());
     const FineTaps taps(ratio);
     const float fineScale = float(split.fineFrequencyScale);
     struct OffsetNeighbourhood {
         openvdb::Vec3s n[3][3][3];
     };
-    return resampleFiner(density, *topologyOf(*movedDistance), ratio, [&] {
+    return resampleFiner(density, *nearSurface, ratio, [&] {
         std::vector<openvdb::Vec3SGrid::ConstAccessor> offsetAt;
         for (const auto& offset : offsets) offsetAt.push_back(offset->getConstAccessor());
         return [&, densityAt = density.getConstAccessor(), distanceAt = movedDistance->getConstAccessor(),
                 offsetAt = std::move(offsetAt), offsetNeighbourhoods = std::vector<OffsetNeighbourhood>(offsets.size())](
                    const openvdb::Coord& c, double* values) mutable {
             // Each fine voxel reads the 2x2x2 coarse voxels around it: all
-            // of them lie in this neighbourhood, and its distance between
-            // the neighbourhood's least and greatest.
+            // of them lie in this neighbourhood, and its distance below the
+            // neighbourhood's greatest.
             float d[3][3][3];
             readNeighbourhood(distanceAt, c, d);
-            const auto [least, greatest] = std::minmax_element(&d[0][0][0], &d[0][0][0] + 27);
-            const int count = ratio * ratio * ratio;
-            if (*least > fineOutward + fine) { // beyond the farthest fine lump
-                std::fill_n(values, count, 0.0);
-                return;
-            }
+            const float greatest = *std::max_element(&d[0][0][0], &d[0][0][0] + 27);
             float rho[3][3][3];
             readNeighbourhood(densityAt, c, rho);
             // Inside, at least the surface's density doubled: a lump of the
             // finest octave is a fine voxel or two across and must still show.
             const auto insideAt = [&](int i, int j, int k) { return std::max(double(taps.at(rho, i, j, k)), edgeSoftness); };
-            if (*greatest < -fineInward - fine) { // below the deepest fine crease
+            if (greatest < -fineInward - fine) { // below the deepest fine crease
                 for (int i = 0; i < ratio; ++i)
                     for (int j = 0; j < ratio; ++j)
                         for (int k = 0; k < ratio; ++k) *values++ = insideAt(i, j, k);
@@ -669,7 +679,7 @@ openvdb::FloatGrid::Ptr displacedDensity(const openvdb::FloatGrid& density, cons
                     for (int k = 0; k < ratio; ++k) {
                         const double distanceHere = taps.at(d, i, j, k);
                         double& value = *values++;
-                        if (distanceHere > fineOutward + fine) {
+                        if (distanceHere > farthestLump) {
                             value = 0.0;
                             continue;
                         }
