@@ -438,7 +438,9 @@ struct LeafNeighbourhood {
 /// layer, each voxel takes the nearest of its neighbours' closest points (a
 /// vector distance transform grown as a front, after Danielsson): sweeping
 /// the distance over those voxels (tools::maskSdf), then the offsets to the
-/// rest positions along it (tools::sdfToExt), took half the bank's detail.
+/// rest positions along it (tools::sdfToExt), took 1.3 of the bank's 2.2 s
+/// of detail; its distances far out were larger (640k of the bank's 1.01 M
+/// coarse blocks found beyond every lump, 574k now).
 SurfaceDistance::SurfaceDistance(const openvdb::FloatGrid& density, float surfaceDensity, int layers)
     : distance(openvdb::tools::fogToSdf(density, surfaceDensity)), closest(openvdb::Vec3SGrid::create())
 {
@@ -632,9 +634,9 @@ openvdb::FloatGrid::Ptr displacedDensity(const openvdb::FloatGrid& density, cons
     // The fine octaves, on the detail's grid, within their range of that
     // surface: only in the coarse voxels that have a voxel within that range
     // among their 3 x 3 x 3 (each fine voxel reads the 2 x 2 x 2 coarse ones
-    // around it). The others' blocks are empty; most of the voxels the
-    // moved surface could reach are, and reading their neighbourhoods to
-    // find so took a third of the fine octaves' time.
+    // around it). The others' blocks are empty, most of the voxels the
+    // moved surface could reach: reading their neighbourhoods to find so
+    // took 0.6 of the stirred bank's 3.0 s at frame 120.
     const double farthestLump = fineOutward + fine;
     const openvdb::MaskGrid::Ptr nearSurface = topologyOf(*movedDistance);
     openvdb::tree::LeafManager<openvdb::MaskTree>(nearSurface->tree())
