@@ -366,6 +366,51 @@ TEST_CASE("displaced detail travels with the material and is the same for any th
     CHECK(largestDifference(*before.density, *splatParticles(particles, options).density, openvdb::Coord(4, 0, 2)) > 0.5);
 }
 
+TEST_CASE("displaced detail draws lumps only within its range of the surface, none in the faint fringe beyond it", "[volume]")
+{
+    // A ball and a fringe of sparse particles around it, out to 3 times its
+    // radius, nowhere as dense as the surface: as the specks a swirling
+    // cloud sheds. Fast sweeping measures the fringe's distance within it,
+    // around its gaps, or not at all in specks with no surface of their own;
+    // taken for closest points, those drew lumps 26 to 28 units out.
+    ParticleSet particles = ballOfParticles(20000, 8.0, 6);
+    const ParticleSet fringe = ballOfParticles(8000, 24.0, 7);
+    for (std::size_t i = 0; i < fringe.size(); ++i) {
+        if ((Vec3d(fringe.position[i]) - Vec3d(10.0)).length() < 10.0) continue;
+        particles.position.push_back(fringe.position[i]);
+        particles.velocity.push_back(fringe.velocity[i]);
+        particles.rest.push_back(fringe.rest[i]);
+        particles.id.push_back(uint32_t(particles.size()));
+        particles.radius.push_back(fringe.radius[i]);
+        particles.cloud.push_back(0);
+    }
+    VolumeOptions options = displacedOptions();
+    options.detail.amplitude = 1.0;    // a range of 8.7 units, 17 splat voxels (the stirred bank's: 49)
+    options.detail.edgeSoftness = 6.0; // a surface at 3, over the fringe's overlapping kernels
+    const double surfaceDensity = 0.5 * options.detail.edgeSoftness;
+    VolumeOptions plainOptions = options;
+    plainOptions.detail.voxelSize = 0.0;
+    const DensityGrids plain = splatParticles(particles, plainOptions);
+    double surface = 0.0, fringeDensity = 0.0;
+    for (auto it = plain.density->cbeginValueOn(); it; ++it) {
+        const double r = fromCentre(*plain.density, it.getCoord());
+        if (*it >= surfaceDensity) surface = std::max(surface, r);
+        if (r > 11.0) fringeDensity = std::max(fringeDensity, double(*it));
+    }
+    INFO("splat surface " << surface << ", fringe density up to " << fringeDensity);
+    REQUIRE(surface < 9.0);
+    REQUIRE(fringeDensity < surfaceDensity);
+
+    const DensityGrids displaced = splatParticles(particles, options);
+    double farthest = 0.0;
+    for (auto it = displaced.density->cbeginValueOn(); it; ++it)
+        if (*it >= surfaceDensity) farthest = std::max(farthest, fromCentre(*displaced.density, it.getCoord()));
+    INFO("farthest displaced " << farthest << ", range " << options.detail.displacementRange());
+    const double outward = 0.56 * options.detail.displacementRange();
+    CHECK(farthest > surface + 0.5 * outward);
+    CHECK(farthest < surface + outward + 0.5);
+}
+
 TEST_CASE("displaced detail leaves a cloud nowhere as dense as its surface as the splat made it", "[volume]")
 {
     const ParticleSet particles = ballOfParticles(200, 8.0, 8);
