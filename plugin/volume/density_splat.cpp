@@ -5,7 +5,6 @@
 #include <vfield/core/stopwatch.h>
 #include <vfield/core/trilinear_sampler.h>
 
-#include <openvdb/tools/FastSweeping.h>
 #include <openvdb/tools/Filter.h>
 #include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/Morphology.h>
@@ -435,68 +434,93 @@ struct LeafNeighbourhood {
     }
 };
 
-/// Next to the surface, OpenVDB's fast sweeping gives the distance d, and
-/// the closest point lies down its gradient, x - d grad d. From there, layer
-/// by layer, each voxel takes the nearest of its neighbours' closest points
-/// (a vector distance transform grown as a front, after Danielsson), out to
-/// `outward` and in to `inward`: sweeping the distance over those voxels
-/// (tools::maskSdf), then the offsets to the rest positions along it
-/// (tools::sdfToExt), took 1.3 of the bank's 2.2 s of detail.
+/// Next to the surface, in the voxels with a face neighbour across it, the
+/// distance d to it comes from the density along each axis, as fast
+/// sweeping starts (OpenVDB's fogToSdf), and the closest point lies along
+/// the density's gradient. From there, layer by layer, each voxel takes the
+/// nearest of its neighbours' closest points (a vector distance transform
+/// grown as a front, after Danielsson), out to `outward` and in to
+/// `inward`: sweeping the distance over those voxels (tools::maskSdf), then
+/// the offsets to the rest positions along it (tools::sdfToExt), took 1.3
+/// of the bank's 2.2 s of detail.
 ///
-/// Only next to the surface: the splat's faint fringe (its kernels' tails,
-/// sparse particles torn off the cloud) spreads far beyond it, and fast
-/// sweeping measures its distance there within the density's voxels, around
-/// their gaps, where its gradient points anywhere. Grown from the whole
-/// fringe, the layers' closest points were false surfaces up to 40 units
-/// off the cloud and drew lumps there (the stirred bank's frame 210: 5.1 M
-/// voxels in all, 2.0 M of them over 30 units out, 16,000 inside).
+/// Only from next to the surface: the splat's faint fringe (its kernels'
+/// tails, sparse particles torn off the cloud) spreads far beyond it, and
+/// fast sweeping measured its distance there within the density's voxels,
+/// around their gaps, where its gradient points anywhere, or not at all in
+/// specks with no surface of their own. Grown from the whole fringe, the
+/// layers' closest points were false surfaces up to 40 units off the cloud
+/// and drew lumps there (the stirred bank's frame 210: 5.1 M voxels in all,
+/// 2.0 M of them over 30 units out, 16,000 inside); sweeping it took 0.17 of
+/// the stirred bank's 1.3 s at frame 120.
 SurfaceDistance::SurfaceDistance(const openvdb::FloatGrid& density, float surfaceDensity, double inward, double outward)
-    : distance(openvdb::tools::fogToSdf(density, surfaceDensity)), closest(openvdb::Vec3SGrid::create())
+    : distance(openvdb::FloatGrid::create(std::numeric_limits<float>::max())), closest(openvdb::Vec3SGrid::create())
 {
     const double voxel = density.voxelSize()[0];
-    // The voxels within a voxel of the surface: fast sweeping sets them from
-    // the density across it (the rest of the density keeps +-FLT_MAX where a
-    // piece of it has no surface of its own).
-    openvdb::MaskTree known(distance->tree(), false, openvdb::TopologyCopy());
+    distance->setTransform(density.transform().copy());
+    closest->setTransform(density.transform().copy());
+    const auto isInside = [surfaceDensity](float rho) { return rho > surfaceDensity; };
+    // The distance to the surface in voxels, from a voxel's face neighbours
+    // across it (linear between the two), or infinity where none is across.
+    const auto distanceAcross = [&](const openvdb::FloatGrid::ConstAccessor& densityAt, const openvdb::Coord& c, float rho) {
+        double sum = 0.0;
+        for (int axis = 0; axis < 3; ++axis) {
+            double nearest = std::numeric_limits<double>::infinity();
+            for (const int side : {-1, 1}) {
+                openvdb::Coord n = c;
+                n[axis] += side;
+                const float across = densityAt.getValue(n);
+                if (isInside(across) != isInside(rho))
+                    nearest = std::min(nearest, double(rho - surfaceDensity) / double(rho - across));
+            }
+            if (nearest < std::numeric_limits<double>::infinity()) sum += 1.0 / std::max(nearest * nearest, 1e-12);
+        }
+        return sum > 0.0 ? 1.0 / std::sqrt(sum) : std::numeric_limits<double>::infinity();
+    };
+    openvdb::MaskTree inside(density.tree(), false, openvdb::TopologyCopy());
+    openvdb::MaskTree known(density.tree(), false, openvdb::TopologyCopy());
     openvdb::tree::LeafManager<openvdb::MaskTree>(known).foreach ([&](openvdb::MaskTree::LeafNodeType& leaf, std::size_t) {
-        const openvdb::FloatTree::LeafNodeType& distances = *distance->tree().probeConstLeaf(leaf.origin());
-        for (auto v = leaf.beginValueOn(); v; ++v)
-            if (!(std::abs(double(distances.getValue(v.pos()))) <= voxel)) leaf.setValueOff(v.pos());
+        const auto densityAt = density.getConstAccessor();
+        openvdb::MaskTree::LeafNodeType& insideLeaf = *inside.probeLeaf(leaf.origin());
+        for (auto v = leaf.beginValueOn(); v; ++v) {
+            const float rho = densityAt.getValue(v.getCoord());
+            if (!isInside(rho)) insideLeaf.setValueOff(v.pos());
+            if (!(distanceAcross(densityAt, v.getCoord(), rho) < std::numeric_limits<double>::infinity()))
+                leaf.setValueOff(v.pos());
+        }
     });
     openvdb::tools::pruneInactive(known);
+    openvdb::tools::pruneInactive(inside);
     openvdb::MaskTree front(known, false, openvdb::TopologyCopy());
-    closest->setTransform(density.transform().copy());
     closest->tree().topologyUnion(known);
-
+    distance->tree().topologyUnion(known);
     openvdb::tree::LeafManager<openvdb::MaskTree>(known).foreach ([&](const openvdb::MaskTree::LeafNodeType& leaf, std::size_t) {
-        const auto distanceAt = distance->getConstAccessor();
+        const auto densityAt = density.getConstAccessor();
         openvdb::Vec3STree::LeafNodeType& closestLeaf = *closest->tree().probeLeaf(leaf.origin());
+        openvdb::FloatTree::LeafNodeType& distanceLeaf = *distance->tree().probeLeaf(leaf.origin());
         for (auto v = leaf.cbeginValueOn(); v; ++v) {
             const openvdb::Coord c = v.getCoord();
-            const double d = distanceAt.getValue(c);
-            // Central differences, one-sided where a neighbour lies beyond the density.
+            const float rho = densityAt.getValue(c);
+            // Signed, negative inside: the surface lies down the density's
+            // gradient from outside and up it from inside.
+            const double d = (isInside(rho) ? -1.0 : 1.0) * distanceAcross(densityAt, c, rho);
             openvdb::Vec3d gradient;
             for (int axis = 0; axis < 3; ++axis) {
                 openvdb::Coord below = c, above = c;
                 --below[axis];
                 ++above[axis];
-                const bool hasBelow = distanceAt.isValueOn(below), hasAbove = distanceAt.isValueOn(above);
-                const double atBelow = distanceAt.getValue(below), atAbove = distanceAt.getValue(above);
-                gradient[axis] = hasBelow && hasAbove ? 0.5 * (atAbove - atBelow)
-                                 : hasAbove           ? atAbove - d
-                                 : hasBelow           ? d - atBelow
-                                                      : 0.0;
+                gradient[axis] = 0.5 * (double(densityAt.getValue(above)) - double(densityAt.getValue(below)));
             }
             const double length = gradient.length();
             closestLeaf.setValueOnly(
-                v.pos(), openvdb::Vec3s(c.asVec3d() - (length > 0.0 ? gradient * (d / (voxel * length)) : openvdb::Vec3d(0.0))));
+                v.pos(), openvdb::Vec3s(c.asVec3d() + (length > 0.0 ? gradient * (d / length) : openvdb::Vec3d(0.0))));
+            distanceLeaf.setValueOnly(v.pos(), float(d * voxel));
         }
     });
 
     // A layer reads only the voxels of the layers before it, finished, and
     // each of its voxels is written by one task, without changing the trees:
-    // the same for any thread count. A voxel of the density takes the sign
-    // fast sweeping gave it: negative inside.
+    // the same for any thread count. Inside the surface, negative.
     while (!front.empty()) {
         openvdb::tools::dilateActiveValues(front, 1, openvdb::tools::NN_FACE_EDGE_VERTEX, openvdb::tools::IGNORE_TILES);
         front.topologyDifference(known);
@@ -508,6 +532,7 @@ SurfaceDistance::SurfaceDistance(const openvdb::FloatGrid& density, float surfac
                 const LeafNeighbourhood<openvdb::MaskTree> knownAround(known, leaf.origin());
                 const LeafNeighbourhood<openvdb::Vec3STree> closestAround(closest->tree(), leaf.origin());
                 openvdb::FloatTree::LeafNodeType& distanceLeaf = *distance->tree().probeLeaf(leaf.origin());
+                const openvdb::MaskTree::LeafNodeType* insideLeaf = inside.probeConstLeaf(leaf.origin());
                 for (auto v = leaf.cbeginValueOn(); v; ++v) {
                     const openvdb::Coord local = v.getCoord() - leaf.origin();
                     double nearest = std::numeric_limits<double>::infinity();
@@ -527,8 +552,7 @@ SurfaceDistance::SurfaceDistance(const openvdb::FloatGrid& density, float surfac
                             }
                     closestAround.leaves[13]->setValueOnly(v.pos(), best);
                     const double d = std::sqrt(nearest) * voxel;
-                    const bool inside = distanceLeaf.getValue(v.pos()) < 0.0f;
-                    distanceLeaf.setValueOnly(v.pos(), float(inside ? -d : d));
+                    distanceLeaf.setValueOnly(v.pos(), float(insideLeaf && insideLeaf->isValueOn(v.pos()) ? -d : d));
                 }
             });
         known.topologyUnion(front);
@@ -542,6 +566,13 @@ SurfaceDistance::SurfaceDistance(const openvdb::FloatGrid& density, float surfac
         });
         openvdb::tools::pruneInactive(front);
     }
+    // Deeper inside than the layers reach: inside whatever the octaves.
+    inside.topologyDifference(known);
+    distance->tree().topologyUnion(inside);
+    openvdb::tree::LeafManager<openvdb::MaskTree>(inside).foreach ([&](const openvdb::MaskTree::LeafNodeType& leaf, std::size_t) {
+        openvdb::FloatTree::LeafNodeType& distanceLeaf = *distance->tree().probeLeaf(leaf.origin());
+        for (auto v = leaf.cbeginValueOn(); v; ++v) distanceLeaf.setValueOnly(v.pos(), -std::numeric_limits<float>::max());
+    });
 }
 
 /// The offset rest - world at each voxel's closest point on the surface:
