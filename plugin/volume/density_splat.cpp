@@ -400,8 +400,8 @@ openvdb::FloatGrid::Ptr detailedDensity(const openvdb::FloatGrid& density, const
 /// distance to it (world units, negative inside) and each voxel's closest
 /// point on it (index space), over the band of voxels from `inward` inside
 /// the surface to `outward` outside it (world units). The density's deeper
-/// voxels keep their distance and have no closest point; nothing farther
-/// out is stored.
+/// voxels read -FLT_MAX and have no closest point; nothing farther out is
+/// stored.
 struct SurfaceDistance {
     openvdb::FloatGrid::Ptr distance;
     openvdb::Vec3SGrid::Ptr closest;
