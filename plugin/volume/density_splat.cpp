@@ -399,9 +399,9 @@ openvdb::FloatGrid::Ptr detailedDensity(const openvdb::FloatGrid& density, const
 /// The splat's surface, where its density is surfaceDensity: the signed
 /// distance to it (world units, negative inside) and each voxel's closest
 /// point on it (index space), over the band of voxels from `inward` inside
-/// the surface to `outward` outside it (world units). The density's deeper
-/// voxels read -FLT_MAX and have no closest point; nothing farther out is
-/// stored.
+/// the surface to `outward` outside it (world units), and the one layer of
+/// voxels just beyond it. The density's deeper voxels read -FLT_MAX and
+/// have no closest point; nothing farther out is stored.
 struct SurfaceDistance {
     openvdb::FloatGrid::Ptr distance;
     openvdb::Vec3SGrid::Ptr closest;
