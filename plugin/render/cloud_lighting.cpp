@@ -99,7 +99,6 @@ CloudLighting::CloudLighting(openvdb::FloatGrid::ConstPtr density, const MediumS
                     : sunDepthTowardsSun(coarseDensity(*mDensity, first, mBounds.min(),
                                                        latticePoints(extent, depthVoxelsPerCell * voxel), depthVoxelsPerCell));
 
-    mSunInCloud = transmittanceTowards(coarse, mToSun);
     mSunVisible = DenseGrid(mBounds.min(), coarse.spacing(), coarse.points(), 1.0f, 1.0f);
     if (sunBlocked) // zero where a surface blocks the sun
         tbb::parallel_for(std::size_t(0), mSunVisible.size(), [&](std::size_t n) {

@@ -206,7 +206,9 @@ public:
         : mFrame(f), mSettings(*f.settings), mMedium(medium), mToSun(mSettings.sun.direction.unitSafe()),
           mSunRadiance(mSettings.sun.color * mSettings.sun.intensity), mSunThroughCloud(sunThroughCloud)
     {
-        if (medium.present()) mDensity.emplace(medium.density());
+        if (!medium.present()) return;
+        mDensity.emplace(medium.density());
+        if (sunThroughCloud == SunThroughCloud::AsTheMarch) mLight.emplace(*f.volume);
     }
 
     /// Where a path leaves its first vertex: the camera, or a point where it
@@ -314,7 +316,7 @@ private:
     {
         if (mFrame.surfaces->occluded(p, mToSun, 0.0, kInfinity)) return 0.0;
         if (!mDensity) return 1.0;
-        if (mSunThroughCloud == SunThroughCloud::AsTheMarch) return mFrame.volume->sunThroughCloud(*mDensity, p);
+        if (mSunThroughCloud == SunThroughCloud::AsTheMarch) return mFrame.volume->sunThroughCloud(*mLight, p);
         return mMedium.transmittance(*mDensity, p, mToSun, 0.0, kInfinity, random);
     }
 
@@ -324,6 +326,7 @@ private:
     Vec3d mToSun, mSunRadiance;
     SunThroughCloud mSunThroughCloud;
     std::optional<Medium::Density> mDensity;
+    std::optional<CloudVolume::LightReaders> mLight; ///< with SunThroughCloud::AsTheMarch
 };
 
 } // namespace

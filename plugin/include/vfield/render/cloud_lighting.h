@@ -1,14 +1,14 @@
 #pragma once
 /// @file cloud_lighting.h
-/// A frame's density grid (world space) and the light that reaches into it:
-/// the sun's and the sky's transmittance through the cloud, computed once per
-/// frame into grids over the cloud's box (coarser than the density), so that a
-/// shading sample costs one lookup instead of a march to the light; and, for
-/// surfaces, the cloud's optical depth towards the sun on a lattice aligned
-/// with the sun's rays, fine across them, so that a cloud's shadow is as sharp
-/// as its density. Shared by
-/// the back-ends: vfield's renderer shades with it, the POV-Ray export writes
-/// the sky-lit density from it.
+/// A frame's density grid (world space) and the light that reaches into it,
+/// computed once per frame: where surfaces block the sun and the sky's
+/// transmittance through the cloud, on grids over the cloud's box (coarser
+/// than the density); and, for surfaces, the cloud's optical depth towards
+/// the sun on a lattice aligned with the sun's rays, fine across them, so
+/// that a cloud's shadow is as sharp as its density. Shared by the
+/// back-ends: vfield's renderer shades with it (the cloud's own samples take
+/// the light through the cloud from OpticalDepthMap), the POV-Ray export
+/// writes the sky-lit density from it.
 
 #include <vfield/core/dense_grid.h>
 #include <vfield/render/render_settings.h>
@@ -50,16 +50,9 @@ public:
     /// of a large box (a cloud with a stray wisp far away), a small cloud's
     /// shadow came out as nested squares of their size.
     double sunTransmittance(const Vec3d& p) const;
-    /// What the cloud's own samples read, trilinearly from the light grids,
-    /// unclamped: the sun's transmittance through the cloud, the share of the
-    /// sun no surface blocks, and the sky's transmittance from above. A
-    /// renderer that marches the first cells towards a light itself reads the
-    /// transmittances beyond them, and sunVisible where the sample is.
-    float sunInCloud(const Vec3d& p) const { return mSunInCloud.at(p); }
+    /// The share of the sun no surface blocks at a point of the cloud, read
+    /// trilinearly from its grid, unclamped.
     float sunVisible(const Vec3d& p) const { return mSunVisible.at(p); }
-    float skyTransmittance(const Vec3d& p) const { return mSkyTransmittance.at(p); }
-    /// The light grids' distance between points, world units.
-    double lightGridSpacing() const { return mSunInCloud.spacing(); }
 
     /// Density x the sky's transmittance down to each voxel: where the cloud
     /// scatters the sky's light, and how much (same voxels as the density).
@@ -88,7 +81,7 @@ private:
     DenseGrid transmittanceTowards(const DenseGrid& coarse, const Vec3d& towards) const;
 
     openvdb::FloatGrid::ConstPtr mDensity;
-    DenseGrid mSunInCloud, mSunVisible, mSkyTransmittance;
+    DenseGrid mSunVisible, mSkyTransmittance;
     SunDepth mSunDepth;
     BBoxd mBounds;
     Vec3d mToSun;

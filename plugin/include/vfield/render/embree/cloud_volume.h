@@ -4,7 +4,8 @@
 /// own renderer: extinction sigma_t = extinction x density, scattering
 /// albedo x sigma_t, Beer-Lambert attenuation, the sun scattered with the
 /// medium's two-lobe phase function and the sky's light reaching each sample
-/// through the cloud above it, both in octaves of multiple scattering
+/// through the cloud above it (the way to each marched near the sample, then
+/// read from an OpticalDepthMap), both in octaves of multiple scattering
 /// (MultipleScattering): light scattered many times brightens the cloud's
 /// shadowed side and softens its shadow on the ground. Or, for the light
 /// scattered more than once, a frame's lattice traced by the reference's
@@ -14,6 +15,7 @@
 
 #include <vfield/core/trilinear_sampler.h>
 #include <vfield/render/cloud_lighting.h>
+#include <vfield/render/optical_depth_map.h>
 
 #include <array>
 #include <memory>
@@ -60,27 +62,36 @@ public:
 
     /// A reader of the density, for one thread.
     using Density = TrilinearSampler<openvdb::FloatTree>;
+    /// What a sample reads on its way towards the lights, for one thread:
+    /// the density near it and the optical depth maps beyond.
+    struct LightReaders {
+        explicit LightReaders(const CloudVolume& volume)
+            : near(volume.mLighting.density().tree()), sun(volume.mSunDepth), sky(volume.mSkyDepth)
+        {}
+        Density near;
+        OpticalDepthMap::Reader sun, sky;
+    };
     /// The sun's transmittance through the cloud from p, as the march takes
-    /// it for single scattering: through the density near p, from the light
-    /// grid beyond. Surfaces in the way are not counted.
-    float sunThroughCloud(Density& density, const Vec3d& p) const;
+    /// it for single scattering. Surfaces in the way are not counted.
+    float sunThroughCloud(LightReaders& light, const Vec3d& p) const;
 
 private:
     using OctavePhases = std::array<double, 8>; ///< MultipleScattering::octaves is at most 8
     /// The phase of each octave for light leaving along -dir.
     OctavePhases octavePhases(const Vec3d& dir) const;
-    /// The light's transmittance from p towards a light: marched through the
-    /// density near p, then read from gridBeyond(q).
-    template<typename GridBeyond>
-    float lightThrough(Density& density, const Vec3d& p, const Vec3d& towards, const GridBeyond& gridBeyond) const;
+    /// A light's transmittance through `depth` (OpticalDepthMap's units): 0 once under 0.001.
+    float transmittance(double depth) const;
+    /// The density's integral from p towards a light (unit direction):
+    /// marched near p, read from the light's map beyond.
+    double depthTowards(LightReaders& light, OpticalDepthMap::Reader& beyond, const Vec3d& p, const Vec3d& towards) const;
     /// The sun's share that reaches p: through the cloud, not blocked by a surface.
-    float sunThrough(Density& density, const Vec3d& p) const;
+    float sunThrough(LightReaders& light, const Vec3d& p) const;
     /// A sample's light as the octaves give it, in units of the sun's and the sky's radiance.
     struct OctaveLight {
         double sunShare = 0.0; ///< all octaves of the sun, single scattering included, their phases applied
         double skyShare = 0.0; ///< the sky's
     };
-    OctaveLight octaveLight(Density& density, const Vec3d& p, const OctavePhases& phases) const;
+    OctaveLight octaveLight(LightReaders& readers, const Vec3d& p, const OctavePhases& phases) const;
 
     const CloudLighting& mLighting;
     struct EmptySpaceSkipper;                    ///< OpenVDB's VolumeRayIntersector, one copy per thread
@@ -93,8 +104,9 @@ private:
     };
     std::vector<Octave> mOctaves;
     double mExtinction, mAlbedo, mStep;
-    /// The steps of the march towards a light through the density, before its grid is read.
-    std::vector<double> mNearSteps;
+    /// The density's integral towards the sun and up to the sky.
+    OpticalDepthMap mSunDepth, mSkyDepth;
+    double mNearStep = 0.0; ///< the march's steps towards a light before its map is read: a density voxel
 };
 
 } // namespace vfield
