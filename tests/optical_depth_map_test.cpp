@@ -84,7 +84,16 @@ TEST_CASE("an optical depth map holds the density's integral towards the light, 
         CHECK(std::abs(errors) < 0.01 * depths);
         CHECK(absoluteErrors < 0.03 * depths);
         CHECK(mappedTransmittance == Approx(transmittance).epsilon(0.005));
-        if (towards == sources[0]) CHECK(shadowedFromAfar > 100);
+        if (towards == sources[0]) {
+            CHECK(shadowedFromAfar > 100);
+            // In the empty stretch between the balls, far from both: the upper
+            // ball's depth, as a sample near the lower ball's top reads it.
+            for (double t = 8.0; t < 20.0; t += 1.0) {
+                const Vec3d p = towards * t;
+                INFO("in the gap at " << p);
+                CHECK(reader.at(p) == Approx(marchedDepth(*density, p, towards)).epsilon(0.02));
+            }
+        }
     }
     // Where no density lies towards the light, none is counted.
     const OpticalDepthMap map(density, Vec3d(0, 1, 0));

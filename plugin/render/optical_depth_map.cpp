@@ -55,30 +55,41 @@ OpticalDepthMap::OpticalDepthMap(openvdb::FloatGrid::ConstPtr densityGrid, const
     });
     openvdb::MaskTree touched;
     for (openvdb::MaskTree& part : touchedPerThread) touched.topologyUnion(part);
+    // Each column of leaves whole from its first leaf on the light's side to
+    // its last: a point between two clouds, where a sample's march towards
+    // the light ends, reads the depth of the one nearer the light. Read
+    // where the map held no leaf, it was none.
+    {
+        std::vector<const openvdb::MaskTree::LeafNodeType*> touchedLeaves;
+        touched.getNodes(touchedLeaves);
+        std::vector<openvdb::Coord> sorted(touchedLeaves.size());
+        std::transform(touchedLeaves.begin(), touchedLeaves.end(), sorted.begin(), [](const auto* leaf) { return leaf->origin(); });
+        std::sort(sorted.begin(), sorted.end());
+        for (std::size_t n = 1; n < sorted.size(); ++n)
+            if (sorted[n].x() == sorted[n - 1].x() && sorted[n].y() == sorted[n - 1].y())
+                for (int k = sorted[n - 1].z() + kLeafDim; k < sorted[n].z(); k += kLeafDim)
+                    touched.touchLeaf(openvdb::Coord(sorted[n].x(), sorted[n].y(), k))->setValuesOn();
+    }
     mDepth = std::make_shared<openvdb::FloatTree>(touched, 0.0f, openvdb::TopologyCopy());
     std::vector<DepthLeaf*> leaves;
     mDepth->getNodes(leaves);
     // Sorted by (x, y, z): each column of leaves together, from the light's side.
     std::sort(leaves.begin(), leaves.end(), [](const DepthLeaf* a, const DepthLeaf* b) { return a->origin() < b->origin(); });
-    std::vector<openvdb::Coord> origins(leaves.size());
-    std::transform(leaves.begin(), leaves.end(), origins.begin(), [](const DepthLeaf* leaf) { return leaf->origin(); });
     std::vector<std::size_t> columnStarts;
-    for (std::size_t n = 0; n < origins.size(); ++n)
-        if (n == 0 || origins[n].x() != origins[n - 1].x() || origins[n].y() != origins[n - 1].y()) columnStarts.push_back(n);
-    columnStarts.push_back(origins.size());
+    for (std::size_t n = 0; n < leaves.size(); ++n)
+        if (n == 0 || leaves[n]->origin().x() != leaves[n - 1]->origin().x() ||
+            leaves[n]->origin().y() != leaves[n - 1]->origin().y())
+            columnStarts.push_back(n);
+    columnStarts.push_back(leaves.size());
 
-    // Down each column of lattice points, trapezoids between them. A leaf
-    // not next to the one before it follows a stretch without density: the
-    // depth carries over it unchanged.
+    // Down each column of lattice points, trapezoids between them.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, columnStarts.size() - 1), [&](const tbb::blocked_range<std::size_t>& r) {
         TrilinearSampler<openvdb::FloatTree> densityAt(density.tree());
         const openvdb::math::Transform& densityTransform = density.transform();
         for (std::size_t column = r.begin(); column != r.end(); ++column) {
             double depth[kLeafDim][kLeafDim] = {}, previous[kLeafDim][kLeafDim] = {};
             for (std::size_t n = columnStarts[column]; n != columnStarts[column + 1]; ++n) {
-                const openvdb::Coord& origin = origins[n];
-                if (n != columnStarts[column] && origins[n - 1].z() + kLeafDim != origin.z())
-                    for (auto& row : previous) std::fill(std::begin(row), std::end(row), 0.0);
+                const openvdb::Coord& origin = leaves[n]->origin();
                 for (int z = 0; z < kLeafDim; ++z)
                     for (int x = 0; x < kLeafDim; ++x)
                         for (int y = 0; y < kLeafDim; ++y) {
