@@ -23,8 +23,8 @@ openvdb::FloatGrid::Ptr twoLumpyBalls(double voxel)
         double radius;
     } balls[] = {{{0, 0, 0}, 6.0}, {{9, 30, 4}, 4.0}};
     for (const auto& ball : balls) {
-        const openvdb::CoordBBox box = grid->transform().worldToIndexNodeCentered(
-            openvdb::BBoxd(ball.centre - ball.radius, ball.centre + ball.radius));
+        const openvdb::CoordBBox box =
+            grid->transform().worldToIndexNodeCentered(openvdb::BBoxd(ball.centre - ball.radius, ball.centre + ball.radius));
         for (auto c = box.begin(); c; ++c) {
             const Vec3d p = grid->transform().indexToWorld(*c), d = p - ball.centre;
             if (d.length() > ball.radius) continue;
@@ -48,8 +48,7 @@ double marchedDepth(const openvdb::FloatGrid& density, const Vec3d& p, const Vec
 
 } // namespace
 
-TEST_CASE("an optical depth map holds the density's integral towards the light, across empty space too",
-          "[render][light]")
+TEST_CASE("an optical depth map holds the density's integral towards the light, across empty space too", "[render][light]")
 {
     const double voxel = 0.5;
     const openvdb::FloatGrid::Ptr density = twoLumpyBalls(voxel);
@@ -76,8 +75,8 @@ TEST_CASE("an optical depth map holds the density's integral towards the light, 
             if (marchedDepth(*density, p + towards * 15.0, towards) > 1.0) ++shadowedFromAfar;
         }
         INFO("towards " << towards << ": depths " << depths / points << " on average, off by " << errors / points << " ("
-                        << absoluteErrors / points << " unsigned); transmittance " << mappedTransmittance / points
-                        << " against " << transmittance / points << "; " << shadowedFromAfar << " points under the far ball");
+                        << absoluteErrors / points << " unsigned); transmittance " << mappedTransmittance / points << " against "
+                        << transmittance / points << "; " << shadowedFromAfar << " points under the far ball");
         // Unbiased: the errors of reading between columns a voxel apart
         // cancel (measured: -0.2 to -0.6% of the depth, 1.5 to 1.7%
         // unsigned; the transmittance within 0.2%).
@@ -100,7 +99,6 @@ TEST_CASE("an optical depth map holds the density's integral towards the light, 
     OpticalDepthMap::Reader reader(map);
     CHECK(reader.at(Vec3d(0, 8.0, 0)) == 0.0);
 }
-
 
 TEST_CASE("an optical depth map lets through as much light as a sharp-edged cloud's own rays do", "[render][light]")
 {

@@ -50,7 +50,8 @@ OpticalDepthMap::OpticalDepthMap(openvdb::FloatGrid::ConstPtr densityGrid, const
                                  last = (openvdb::Coord::floor(hi) + openvdb::Coord(1)) & ~(kLeafDim - 1);
             for (int i = first.x(); i <= last.x(); i += kLeafDim)
                 for (int j = first.y(); j <= last.y(); j += kLeafDim)
-                    for (int k = first.z(); k <= last.z(); k += kLeafDim) touched.touchLeaf(openvdb::Coord(i, j, k))->setValuesOn();
+                    for (int k = first.z(); k <= last.z(); k += kLeafDim)
+                        touched.touchLeaf(openvdb::Coord(i, j, k))->setValuesOn();
         }
     });
     openvdb::MaskTree touched;
@@ -63,7 +64,8 @@ OpticalDepthMap::OpticalDepthMap(openvdb::FloatGrid::ConstPtr densityGrid, const
         std::vector<const openvdb::MaskTree::LeafNodeType*> touchedLeaves;
         touched.getNodes(touchedLeaves);
         std::vector<openvdb::Coord> sorted(touchedLeaves.size());
-        std::transform(touchedLeaves.begin(), touchedLeaves.end(), sorted.begin(), [](const auto* leaf) { return leaf->origin(); });
+        std::transform(touchedLeaves.begin(), touchedLeaves.end(), sorted.begin(),
+                       [](const auto* leaf) { return leaf->origin(); });
         std::sort(sorted.begin(), sorted.end());
         for (std::size_t n = 1; n < sorted.size(); ++n)
             if (sorted[n].x() == sorted[n - 1].x() && sorted[n].y() == sorted[n - 1].y())
@@ -117,8 +119,8 @@ double OpticalDepthMap::Reader::at(const Vec3d& from)
         depth += toSlice * mDensityAt.atIndex(densityTransform.worldToIndex(p - mMap->mAlong * (0.5 * toSlice)));
         p -= mMap->mAlong * toSlice;
         const openvdb::Coord c(int(std::floor(lattice[0])), int(std::floor(lattice[1])), int(slice));
-        const float corners[4] = {mDepthAt.valueAt(c), mDepthAt.valueAt(c.offsetBy(1, 0, 0)), mDepthAt.valueAt(c.offsetBy(0, 1, 0)),
-                                  mDepthAt.valueAt(c.offsetBy(1, 1, 0))};
+        const float corners[4] = {mDepthAt.valueAt(c), mDepthAt.valueAt(c.offsetBy(1, 0, 0)),
+                                  mDepthAt.valueAt(c.offsetBy(0, 1, 0)), mDepthAt.valueAt(c.offsetBy(1, 1, 0))};
         const int lit = int(corners[0] > 0.0f) + int(corners[1] > 0.0f) + int(corners[2] > 0.0f) + int(corners[3] > 0.0f);
         if (lit == 0 || lit == 4 || step == kMaxEdgeSteps) {
             const double u = lattice[0] - c.x(), v = lattice[1] - c.y();

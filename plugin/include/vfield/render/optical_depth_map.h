@@ -39,9 +39,7 @@ public:
     /// Reads the map, for one thread (it keeps the leaves it last read).
     class Reader {
     public:
-        explicit Reader(const OpticalDepthMap& map)
-            : mMap(&map), mDepthAt(*map.mDepth), mDensityAt(map.mDensity->tree())
-        {}
+        explicit Reader(const OpticalDepthMap& map) : mMap(&map), mDepthAt(*map.mDepth), mDensityAt(map.mDensity->tree()) {}
         /// The integral of the density from p towards the light, world units
         /// x density, 0 where the map holds nothing (no density between p and
         /// the light): p's own way to the lattice's next slice towards the
@@ -63,10 +61,7 @@ public:
 private:
     /// The lattice coordinates of a world point: along the two axes across
     /// the rays and along the light's travel.
-    Vec3d indexOf(const Vec3d& p) const
-    {
-        return Vec3d(p.dot(mAcross1), p.dot(mAcross2), p.dot(mAlong)) * mInverseSpacing;
-    }
+    Vec3d indexOf(const Vec3d& p) const { return Vec3d(p.dot(mAcross1), p.dot(mAcross2), p.dot(mAlong)) * mInverseSpacing; }
 
     Vec3d mAcross1{1, 0, 0}, mAcross2{0, 0, 1}, mAlong{0, -1, 0}; ///< mAlong: the light's travel, away from it
     double mInverseSpacing = 1.0;
