@@ -3,10 +3,10 @@
 /// How much cloud lies between each point and a distant light: the density's
 /// integral from the point towards the light, out to the cloud's edge, on a
 /// lattice aligned with the light's rays, as fine as the density (a voxel
-/// apart across the rays and along them) and stored only where there is
-/// density (an OpenVDB tree), computed once per frame. Each column of the
-/// lattice accumulates along itself (trapezoids between its points), across
-/// empty stretches without reading them.
+/// apart across the rays and along them), computed once per frame and stored
+/// (an OpenVDB tree) only over the density and the empty stretches between
+/// its parts along the light. Each column of the lattice accumulates along
+/// itself (trapezoids between its points).
 ///
 /// Why not a march per sample, or a coarse grid: the transmittance is the
 /// exponential of the depth, so an error that varies from sample to sample
@@ -24,8 +24,6 @@
 #include <vfield/core/trilinear_sampler.h>
 
 #include <openvdb/openvdb.h>
-
-#include <cmath>
 
 namespace vfield {
 
@@ -49,8 +47,8 @@ public:
         /// time (at most eight) until all or none have. The depth bends there
         /// from none to growing fast, and read across the bend (or along it,
         /// trilinearly between slices) it came out too deep just inside the
-        /// edge: a sphere of cloud (tests/optical_depth_map_test.cpp) lit 4 to
-        /// 5% too dark on average, 1 to 2% so.
+        /// edge: a sphere of cloud (tests/optical_depth_map_test.cpp) let
+        /// through 4 to 5% too little light on average; now 1 to 2%.
         double at(const Vec3d& p);
 
     private:
