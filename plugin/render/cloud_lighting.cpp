@@ -84,19 +84,18 @@ CloudLighting::CloudLighting(openvdb::FloatGrid::ConstPtr density, const MediumS
     // cells tile them.
     const double voxel = mDensity->voxelSize()[0];
     const Vec3d extent = mBounds.extents();
-    const int voxelsPerCell = std::max(2, int(std::ceil(extent[mBounds.maxExtent()] / kLightGridResolution / voxel - 1e-9)));
-    const openvdb::Coord first = active.min() - openvdb::Coord(1);
-    const std::array<int, 3> points = latticePoints(extent, voxelsPerCell * voxel);
-    const DenseGrid coarse = coarseDensity(*mDensity, first, mBounds.min(), points, voxelsPerCell);
+    mVoxelsPerCell = std::max(2, int(std::ceil(extent[mBounds.maxExtent()] / kLightGridResolution / voxel - 1e-9)));
+    mFirstVoxel = active.min() - openvdb::Coord(1);
+    const DenseGrid coarse = lightGridDensity();
 
     // Shadows on surfaces from a density as fine as fits, in cells of two voxels at best.
     int depthVoxelsPerCell = 2;
-    while (depthVoxelsPerCell < voxelsPerCell &&
+    while (depthVoxelsPerCell < mVoxelsPerCell &&
            latticeSize(latticePoints(extent, depthVoxelsPerCell * voxel)) > kMaxDepthDensityPoints)
         ++depthVoxelsPerCell;
-    mSunDepth = depthVoxelsPerCell == voxelsPerCell
+    mSunDepth = depthVoxelsPerCell == mVoxelsPerCell
                     ? sunDepthTowardsSun(coarse)
-                    : sunDepthTowardsSun(coarseDensity(*mDensity, first, mBounds.min(),
+                    : sunDepthTowardsSun(coarseDensity(*mDensity, mFirstVoxel, mBounds.min(),
                                                        latticePoints(extent, depthVoxelsPerCell * voxel), depthVoxelsPerCell));
 
     mSunVisible = DenseGrid(mBounds.min(), coarse.spacing(), coarse.points(), 1.0f, 1.0f);
@@ -105,7 +104,12 @@ CloudLighting::CloudLighting(openvdb::FloatGrid::ConstPtr density, const MediumS
             const std::array<int, 3> ijk = mSunVisible.point(n);
             if (sunBlocked(mSunVisible.position(ijk[0], ijk[1], ijk[2]), mToSun)) mSunVisible[n] = 0.0f;
         });
-    mSkyTransmittance = transmittanceTowards(coarse, Vec3d(0, 1, 0));
+}
+
+DenseGrid CloudLighting::lightGridDensity() const
+{
+    const double cell = mVoxelsPerCell * mDensity->voxelSize()[0];
+    return coarseDensity(*mDensity, mFirstVoxel, mBounds.min(), latticePoints(mBounds.extents(), cell), mVoxelsPerCell);
 }
 
 CloudLighting::SunDepth CloudLighting::sunDepthTowardsSun(const DenseGrid& density) const
@@ -222,9 +226,10 @@ openvdb::FloatGrid::Ptr CloudLighting::skyLitDensity() const
     openvdb::FloatGrid::Ptr lit = mDensity->deepCopy();
     lit->setName("sky_lit_density");
     if (mEmpty) return lit;
+    const DenseGrid skyTransmittance = transmittanceTowards(lightGridDensity(), Vec3d(0, 1, 0));
     const openvdb::math::Transform& transform = mDensity->transform();
     for (auto it = lit->beginValueOn(); it; ++it)
-        it.setValue(float(*it * std::clamp(double(mSkyTransmittance.at(transform.indexToWorld(it.getCoord()))), 0.0, 1.0)));
+        it.setValue(float(*it * std::clamp(double(skyTransmittance.at(transform.indexToWorld(it.getCoord()))), 0.0, 1.0)));
     return lit;
 }
 

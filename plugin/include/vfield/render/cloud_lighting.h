@@ -1,14 +1,13 @@
 #pragma once
 /// @file cloud_lighting.h
 /// A frame's density grid (world space) and the light that reaches into it,
-/// computed once per frame: where surfaces block the sun and the sky's
-/// transmittance through the cloud, on grids over the cloud's box (coarser
-/// than the density); and, for surfaces, the cloud's optical depth towards
-/// the sun on a lattice aligned with the sun's rays, fine across them, so
-/// that a cloud's shadow is as sharp as its density. Shared by the
-/// back-ends: vfield's renderer shades with it (the cloud's own samples take
-/// the light through the cloud from OpticalDepthMap), the POV-Ray export
-/// writes the sky-lit density from it.
+/// computed once per frame: where surfaces block the sun, on a grid over the
+/// cloud's box (coarser than the density); and, for surfaces, the cloud's
+/// optical depth towards the sun on a lattice aligned with the sun's rays,
+/// fine across them, so that a cloud's shadow is as sharp as its density.
+/// Shared by the back-ends: vfield's renderer shades with it (the cloud's own
+/// samples take the light through the cloud from OpticalDepthMap), the
+/// POV-Ray export writes the sky-lit density from it.
 
 #include <vfield/core/dense_grid.h>
 #include <vfield/render/render_settings.h>
@@ -56,6 +55,9 @@ public:
 
     /// Density x the sky's transmittance down to each voxel: where the cloud
     /// scatters the sky's light, and how much (same voxels as the density).
+    /// Marched through the light grid's coarse density on each call: only
+    /// the POV-Ray export asks, once a frame (vfield's renderer takes the
+    /// sky's light from an OpticalDepthMap).
     openvdb::FloatGrid::Ptr skyLitDensity() const;
 
 private:
@@ -74,6 +76,9 @@ private:
         double at(const Vec3d& p, const Vec3d& toSun) const;
     };
 
+    /// The density box-filtered onto the light grid's cells (mVoxelsPerCell
+    /// voxels each from mFirstVoxel), values at their centres.
+    DenseGrid lightGridDensity() const;
     /// The depth map marched through `density` (a coarse density).
     SunDepth sunDepthTowardsSun(const DenseGrid& density) const;
     /// The cloud's transmittance towards a light (unit direction) at the
@@ -81,7 +86,9 @@ private:
     DenseGrid transmittanceTowards(const DenseGrid& coarse, const Vec3d& towards) const;
 
     openvdb::FloatGrid::ConstPtr mDensity;
-    DenseGrid mSunVisible, mSkyTransmittance;
+    DenseGrid mSunVisible;
+    openvdb::Coord mFirstVoxel; ///< the lower corner of the light grid's first cell
+    int mVoxelsPerCell = 2;     ///< the light grid's cell, density voxels
     SunDepth mSunDepth;
     BBoxd mBounds;
     Vec3d mToSun;

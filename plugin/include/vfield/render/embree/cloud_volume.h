@@ -74,6 +74,11 @@ public:
     /// The sun's transmittance through the cloud from p, as the march takes
     /// it for single scattering. Surfaces in the way are not counted.
     float sunThroughCloud(LightReaders& light, const Vec3d& p) const;
+    /// The sun's share that reaches a point of the cloud, as the march's
+    /// samples take it: through the cloud, and where a surface blocks it as
+    /// CloudLighting's coarse grid has it (not for points on a surface,
+    /// whose grid points below it are in the surface's own shadow).
+    float sunThrough(LightReaders& light, const Vec3d& p) const;
 
 private:
     using OctavePhases = std::array<double, 8>; ///< MultipleScattering::octaves is at most 8
@@ -84,8 +89,6 @@ private:
     /// The density's integral from p towards a light (unit direction):
     /// marched near p, read from the light's map beyond.
     double depthTowards(LightReaders& light, OpticalDepthMap::Reader& beyond, const Vec3d& p, const Vec3d& towards) const;
-    /// The sun's share that reaches p: through the cloud, not blocked by a surface.
-    float sunThrough(LightReaders& light, const Vec3d& p) const;
     /// A sample's light as the octaves give it, in units of the sun's and the sky's radiance.
     struct OctaveLight {
         double sunShare = 0.0; ///< all octaves of the sun, single scattering included, their phases applied
