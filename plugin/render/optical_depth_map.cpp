@@ -37,7 +37,12 @@ OpticalDepthMap::OpticalDepthMap(openvdb::FloatGrid::ConstPtr densityGrid, const
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, activeLeaves.size()), [&](const tbb::blocked_range<std::size_t>& r) {
         openvdb::tree::ValueAccessor<openvdb::MaskTree> touched(touchedPerThread.local());
         for (std::size_t n = r.begin(); n != r.end(); ++n) {
-            const openvdb::Vec3d from = activeLeaves[n]->origin().asVec3d() - 1.0, to = from + double(kLeafDim + 1);
+            // The box of the leaf's active voxels, not the whole leaf's: in the
+            // stirred bank's faint fringe most leaves hold a few voxels, and
+            // whole leaves made the maps' lattices 40% larger.
+            openvdb::CoordBBox voxels;
+            activeLeaves[n]->evalActiveBoundingBox(voxels);
+            const openvdb::Vec3d from = voxels.min().asVec3d() - 1.0, to = voxels.max().asVec3d() + 1.0;
             Vec3d lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
             for (int c = 0; c < 8; ++c) {
                 const Vec3d corner(c & 1 ? to[0] : from[0], c & 2 ? to[1] : from[1], c & 4 ? to[2] : from[2]);
@@ -84,10 +89,22 @@ OpticalDepthMap::OpticalDepthMap(openvdb::FloatGrid::ConstPtr densityGrid, const
             columnStarts.push_back(n);
     columnStarts.push_back(leaves.size());
 
+    // The density's index of a lattice point. A linear transform's
+    // worldToIndex is affine: stepped along the lattice's axes, without a
+    // virtual call and a matrix product at every point.
+    const openvdb::math::Transform& densityTransform = density.transform();
+    const bool linear = densityTransform.isLinear();
+    const Vec3d indexOrigin = densityTransform.worldToIndex(Vec3d(0.0)),
+                indexAcross1 = densityTransform.worldToIndex(mAcross1 * spacing) - indexOrigin,
+                indexAcross2 = densityTransform.worldToIndex(mAcross2 * spacing) - indexOrigin,
+                indexAlong = densityTransform.worldToIndex(mAlong * spacing) - indexOrigin;
+    const auto densityIndexOf = [&](const openvdb::Coord& ijk) {
+        if (!linear) return densityTransform.worldToIndex((mAcross1 * ijk.x() + mAcross2 * ijk.y() + mAlong * ijk.z()) * spacing);
+        return indexOrigin + indexAcross1 * ijk.x() + indexAcross2 * ijk.y() + indexAlong * ijk.z();
+    };
     // Down each column of lattice points, trapezoids between them.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, columnStarts.size() - 1), [&](const tbb::blocked_range<std::size_t>& r) {
         TrilinearSampler<openvdb::FloatTree> densityAt(density.tree());
-        const openvdb::math::Transform& densityTransform = density.transform();
         for (std::size_t column = r.begin(); column != r.end(); ++column) {
             double depth[kLeafDim][kLeafDim] = {}, previous[kLeafDim][kLeafDim] = {};
             for (std::size_t n = columnStarts[column]; n != columnStarts[column + 1]; ++n) {
@@ -96,8 +113,7 @@ OpticalDepthMap::OpticalDepthMap(openvdb::FloatGrid::ConstPtr densityGrid, const
                     for (int x = 0; x < kLeafDim; ++x)
                         for (int y = 0; y < kLeafDim; ++y) {
                             const openvdb::Coord ijk = origin.offsetBy(x, y, z);
-                            const Vec3d world = (mAcross1 * ijk.x() + mAcross2 * ijk.y() + mAlong * ijk.z()) * spacing;
-                            const double rho = densityAt.atIndex(densityTransform.worldToIndex(world));
+                            const double rho = densityAt.atIndex(densityIndexOf(ijk));
                             depth[x][y] += 0.5 * spacing * (previous[x][y] + rho);
                             previous[x][y] = rho;
                             leaves[n]->setValueOnly(ijk, float(depth[x][y]));
