@@ -372,3 +372,23 @@ TEST_CASE("render: skipping empty space leaves every sample of the march where i
             CHECK(a.distance == Approx(b.distance).epsilon(1e-9));
         }
 }
+
+TEST_CASE("render: skipping empty space keeps the reads that reach a leaf's corner diagonally", "[render]")
+{
+    // One voxel at a leaf's first corner: a trilinear read whose cell starts a
+    // voxel before it along all three axes, in the leaf diagonally behind,
+    // reads it. That leaf holds no voxel of the density, nor of its dilation
+    // across faces, which is all OpenVDB's intersector dilates.
+    openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(0.0f);
+    grid->tree().setValue(openvdb::Coord(8, 8, 8), 5.0f);
+    RenderSettings skipping = medium(0.5, 0.9, 0.3, 0.25), marching = skipping;
+    skipping.integrator.skipEmptySpace = true;
+    marching.integrator.skipEmptySpace = false;
+    const LitCloud skipped(grid, skipping, Vec3d(0, 1, 0), nullptr), whole(grid, marching, Vec3d(0, 1, 0), nullptr);
+    const Vec3d origin(-20, 7.5, 7.5), dir(1, 0, 0); // through cells (7, 7, 7) and (8, 7, 7), in leaves (0, 0, 0) and (8, 0, 0)
+    const CloudVolume::Segment a = skipped.volume.march(origin, dir, 0.0, 1e9, 0.5, Vec3d(2.0), Vec3d(0.5));
+    const CloudVolume::Segment b = whole.volume.march(origin, dir, 0.0, 1e9, 0.5, Vec3d(2.0), Vec3d(0.5));
+    CHECK(b.transmittance < 0.99);
+    CHECK(a.transmittance == Approx(b.transmittance).epsilon(1e-9));
+    CHECK(a.radiance[0] == Approx(b.radiance[0]).epsilon(1e-9));
+}

@@ -11,7 +11,8 @@
 /// scattered more than once, a frame's lattice traced by the reference's
 /// paths (ScatteredLightGrid).
 /// With IntegratorSettings::skipEmptySpace, rays march only through the
-/// OpenVDB nodes that hold density (tools::VolumeRayIntersector).
+/// OpenVDB leaves where a trilinear read of the density can be above zero
+/// (tools::VolumeRayIntersector), and read it only at such voxels.
 
 #include <vfield/core/trilinear_sampler.h>
 #include <vfield/render/cloud_lighting.h>
