@@ -42,7 +42,8 @@ public:
         const auto n = get<uint64_t>();
         need(n * sizeof(T));
         values.resize(n);
-        std::memcpy(values.data(), mBytes.data() + mAt, n * sizeof(T));
+        // An empty vector's data() may be null, which memcpy must not be given even for no bytes.
+        if (n > 0) std::memcpy(values.data(), mBytes.data() + mAt, n * sizeof(T));
         mAt += n * sizeof(T);
     }
     bool atEnd() const { return mAt == mBytes.size(); }
