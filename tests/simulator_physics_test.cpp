@@ -5,6 +5,7 @@
 #include "sim_test_scenes.h"
 #include "test_meshes.h"
 
+#include <vfield/core/error.h>
 #include <vfield/core/vdb_file.h>
 #include <vfield/mesh/mesh_io.h>
 #include <vfield/render/camera.h>
@@ -22,6 +23,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -395,6 +397,26 @@ TEST_CASE("simulator: dual rest resets each rest where its weight is zero, half 
     CHECK(restored.particles().rest == particles.rest);
     CHECK(restored.particles().rest2 == particles.rest2);
     CHECK(restored.particles().rest2Weight == particles.rest2Weight);
+}
+
+TEST_CASE("simulator: a saved state whose particle count is damaged is refused as truncated", "[sim]")
+{
+    const Scene scene = test::singleParticleScene(R"([{"acceleration": [6, 0, 0]}])", 20, 0.0, 24.0);
+    Simulator sim(scene.simulation);
+    sim.advanceFrame();
+    std::string bytes = sim.serializeState();
+    // The positions' count follows the magic, the frame, the removed count
+    // and the object count (the scene has no objects). 2^62 + 1 positions of
+    // 12 bytes are 12 bytes modulo 2^64: a reader that multiplies thinks
+    // one position remains, and asks for 2^62 + 1 of them.
+    REQUIRE(sim.objectStates().empty());
+    const std::size_t countAt = sizeof(uint64_t) + sizeof(int32_t) + 2 * sizeof(uint64_t);
+    const uint64_t damaged = (uint64_t(1) << 62) + 1;
+    REQUIRE(damaged * sizeof(Vec3f) == sizeof(Vec3f));
+    std::memcpy(bytes.data() + countAt, &damaged, sizeof damaged);
+    Simulator restored(scene.simulation);
+    CHECK_THROWS_MATCHES(restored.restoreState(bytes), ValueError,
+                         Catch::Matchers::Message("the saved simulation state is truncated"));
 }
 
 TEST_CASE("simulator: a preroll moves the clouds before the first frame, holds the objects, and rests the particles where "

@@ -25,6 +25,8 @@ void putVector(std::ostream& out, const std::vector<T>& values)
 }
 
 class Reader {
+    static constexpr const char* kTruncated = "the saved simulation state is truncated";
+
 public:
     explicit Reader(const std::string& bytes) : mBytes(bytes) {}
     template<typename T>
@@ -40,7 +42,8 @@ public:
     void getVector(std::vector<T>& values)
     {
         const auto n = get<uint64_t>();
-        need(n * sizeof(T));
+        // Divided, not multiplied: a damaged count's n * sizeof(T) can wrap to a few bytes.
+        if (n > (mBytes.size() - mAt) / sizeof(T)) throw ValueError(kTruncated);
         values.resize(n);
         // An empty vector's data() may be null, which memcpy must not be given even for no bytes.
         if (n > 0) std::memcpy(values.data(), mBytes.data() + mAt, n * sizeof(T));
@@ -51,7 +54,7 @@ public:
 private:
     void need(uint64_t n) const
     {
-        if (n > mBytes.size() - mAt) throw ValueError("the saved simulation state is truncated");
+        if (n > mBytes.size() - mAt) throw ValueError(kTruncated);
     }
     const std::string& mBytes;
     std::size_t mAt = 0;
