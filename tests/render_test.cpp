@@ -1,6 +1,7 @@
 #include "test_meshes.h"
 
 #include <vfield/mesh/procedural.h>
+#include <vfield/render/embree/camera_samples.h>
 #include <vfield/render/embree/renderer.h>
 #include <vfield/render/frame_image.h>
 
@@ -12,8 +13,10 @@
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 using namespace vfield;
 
@@ -242,6 +245,81 @@ TEST_CASE("render: images are identical for 1 and 2 threads", "[render]")
         two = renderFrame(scene.frame);
     }
     CHECK(one.rgba == two.rgba);
+}
+
+TEST_CASE("render: pixels stand out by their display values' difference from a neighbour's, or their coverage's", "[render]")
+{
+    // Columns 0-3 and 4-7: a step in linear value, or in coverage.
+    const auto step = [](float left, float right, float leftAlpha, float rightAlpha) {
+        RenderImage image;
+        image.width = 8;
+        image.height = 3;
+        image.depth.assign(24, 1.0f);
+        for (int y = 0; y < 3; ++y)
+            for (int x = 0; x < 8; ++x) {
+                const float v = x < 4 ? left : right, a = x < 4 ? leftAlpha : rightAlpha;
+                image.rgba.insert(image.rgba.end(), {v, v, v, a});
+            }
+        return image;
+    };
+    const auto flaggedColumns = [](const std::vector<uint8_t>& flags) {
+        std::vector<int> columns;
+        for (int x = 0; x < 8; ++x) {
+            const bool allRows = flags[std::size_t(x)] && flags[std::size_t(8 + x)] && flags[std::size_t(16 + x)];
+            const bool noRow = !flags[std::size_t(x)] && !flags[std::size_t(8 + x)] && !flags[std::size_t(16 + x)];
+            REQUIRE((allRows || noRow));
+            if (allRows) columns.push_back(x);
+        }
+        return columns;
+    };
+    // 0.20 -> 0.25 is 0.484 -> 0.537 in sRGB; 0.90 -> 0.95 only 0.955 -> 0.977:
+    // the same linear step shows in the shadows, not in the highlights.
+    CHECK(flaggedColumns(pixelsThatStandOut(step(0.20f, 0.25f, 1, 1), 0.04)) == std::vector<int>{3, 4});
+    CHECK(flaggedColumns(pixelsThatStandOut(step(0.90f, 0.95f, 1, 1), 0.04)).empty());
+    CHECK(flaggedColumns(pixelsThatStandOut(step(0.0f, 0.0f, 0, 0.5f), 0.04)) == std::vector<int>{3, 4});
+    CHECK(flaggedColumns(pixelsThatStandOut(step(0.5f, 0.5f, 1, 1), 0.0)).empty());
+}
+
+TEST_CASE("render: adaptive sampling gives every sample to the pixels that stand out and one to the others", "[render]")
+{
+    SmallScene scene;
+    scene.settings.image.samplesPerPixel = 4;
+    // Painted ground: terrain's noise is drawn at a pixel's first sample on
+    // it in each pass, which for the pixels refined is then their second.
+    scene.frame.materials[0] = SurfaceMaterial::painted(Vec3d(0.3, 0.5, 0.2));
+    const LitCloud cloud(constantBox({-6, 2, -3}, {6, 6, 3}, 0.25, 0.6f), scene.settings, scene.settings.sun.direction,
+                         &scene.surfaces);
+    scene.frame.volume = &cloud.volume;
+    const RenderImage every = renderFrame(scene.frame);
+    // A threshold of 1 takes no display difference: the first samples alone.
+    scene.settings.image.adaptiveThreshold = 1.0;
+    const RenderImage first = renderFrame(scene.frame);
+    scene.settings.image.adaptiveThreshold = 0.05;
+    const RenderImage adaptive = renderFrame(scene.frame);
+    const std::vector<uint8_t> standOut = pixelsThatStandOut(first, 0.05);
+
+    const auto samePixel = [](const RenderImage& a, const RenderImage& b, std::size_t pixel) {
+        return std::equal(&a.rgba[4 * pixel], &a.rgba[4 * pixel + 4], &b.rgba[4 * pixel]) && a.depth[pixel] == b.depth[pixel];
+    };
+    std::size_t refined = 0, asEvery = 0, asFirst = 0;
+    for (std::size_t pixel = 0; pixel < standOut.size(); ++pixel) {
+        if (standOut[pixel]) {
+            ++refined;
+            asEvery += samePixel(adaptive, every, pixel);
+        } else {
+            asFirst += samePixel(adaptive, first, pixel);
+        }
+    }
+    // The box's and the pillar's outlines and the cloud's edges stand out;
+    // the ground, the sky and the cloud's inside do not.
+    CHECK(refined > standOut.size() / 20);
+    CHECK(refined < standOut.size() / 2);
+    CHECK(asEvery == refined);
+    CHECK(asFirst == standOut.size() - refined);
+    CHECK(first.rgba != every.rgba);
+
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    CHECK(renderFrame(scene.frame).rgba == adaptive.rgba);
 }
 
 TEST_CASE("render: EXR frames hold half-float premultiplied colour and 32-bit depth, and PNG is sRGB", "[render]")

@@ -12,13 +12,13 @@
 
 namespace vfield {
 
-namespace {
-
 float linearToSrgb(float v)
 {
     v = std::clamp(v, 0.0f, 1.0f);
     return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
 }
+
+namespace {
 
 bool endsWith(const std::string& text, const std::string& tail)
 {

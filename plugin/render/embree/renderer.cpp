@@ -94,8 +94,8 @@ Vec3d groundRadianceBelow(const FrameToRender& f)
 /// cloud ray-marched in front of them (CloudVolume), its light scattered
 /// more than once by octaves or from the frame's lattice of paths
 /// (traceScatteredLight). A surface's noise is drawn once per pixel (at its
-/// first sample on that surface); its geometry, light and shadows at every
-/// sample. Camera rays, and then their shadow rays, are traced a packet at
+/// first sample on that surface, in each of adaptive sampling's passes); its
+/// geometry, light and shadows at every sample. Camera rays, and then their shadow rays, are traced a packet at
 /// a time.
 RenderImage renderFast(const FrameToRender& f)
 {

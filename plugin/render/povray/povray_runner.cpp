@@ -119,8 +119,12 @@ void runPovray(const std::string& folder, const std::string& sceneFile, const st
         // Supersampled 2 x 2 only where a pixel stands out from its neighbours.
         for (const char* a : {"+A0.3", "+AM1", "+R2", "-J"}) args.push_back(a);
     } else if (grid > 1) {
-        // Threshold 0 supersamples every pixel on an unjittered n x n grid.
-        for (const std::string& a : {std::string("+A0.0"), std::string("+AM1"), "+R" + std::to_string(grid), std::string("-J")})
+        // Supersampled on an unjittered n x n grid: every pixel at threshold
+        // 0, else those that POV-Ray finds differ from a neighbour by more
+        // than adaptiveThreshold (its own measure of the difference). Its
+        // parser wants a decimal point ("+A0" fails): std::to_string's six places.
+        for (const std::string& a : {"+A" + std::to_string(image.adaptiveThreshold), std::string("+AM1"),
+                                     "+R" + std::to_string(grid), std::string("-J")})
             args.push_back(a);
     } else {
         args.push_back("-A");

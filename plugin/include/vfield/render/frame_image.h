@@ -21,6 +21,9 @@ struct RenderImage {
     std::vector<float> depth; ///< camera distance to the first surface; +inf for sky
 };
 
+/// A linear value clamped to [0, 1] and sRGB-encoded, as PNG frames store it.
+float linearToSrgb(float v);
+
 /// The display image: sRGB-encoded RGB, floats in [0, 1].
 OIIO::ImageBuf toDisplay(const RenderImage& image);
 /// The linear RGBAZ image.

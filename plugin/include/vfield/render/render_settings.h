@@ -114,6 +114,11 @@ struct ImageSettings {
 
     int width = 640, height = 360; ///< pixels (1..kMaxResolution)
     int samplesPerPixel = 4;       ///< (1..65536)
+    /// Above 0, every pixel takes one sample, and only those whose display
+    /// value (sRGB-encoded colour, any channel, or coverage, in [0, 1])
+    /// differs from a neighbour's by more than this take all samplesPerPixel,
+    /// as POV-Ray's adaptive anti-aliasing does. 0: every pixel takes them all.
+    double adaptiveThreshold = 0.0; ///< (0..1)
     /// The sky drawn as RGB 0, alpha 0, for compositing over a plate; by
     /// default it is drawn, opaque (alpha 1). Frames are premultiplied either way.
     bool transparentSky = false;
@@ -129,6 +134,11 @@ struct ImageSettings {
                   .unit("pixels")
                   .doc("image size"));
         visit(field("samplesPerPixel", self.samplesPerPixel).range(1, 65536).doc("samples averaged per pixel"));
+        visit(field("adaptiveThreshold", self.adaptiveThreshold)
+                  .range(0, 1)
+                  .doc("above 0, only the pixels whose first sample differs from a neighbour's by more than this "
+                       "(sRGB colour, any channel, or coverage) take all samplesPerPixel, the others one; 0: every pixel "
+                       "takes them all"));
         visit(field("transparentSky", self.transparentSky)
                   .doc("the sky drawn as RGB 0, alpha 0 in EXR frames (premultiplied), for compositing over a plate; "
                        "PNG frames then show black sky. Embree back-end only"));

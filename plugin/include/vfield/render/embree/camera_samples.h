@@ -19,6 +19,7 @@
 #include <functional>
 #include <limits>
 #include <mutex>
+#include <vector>
 
 namespace vfield {
 
@@ -64,24 +65,97 @@ struct SamplePacket {
     std::array<uint32_t, kSize> pixels;
 };
 
+/// Which pixels stand out after one sample each: where a pixel's first
+/// sample and one of its four neighbours' differ by more than threshold in a
+/// display value (sRGB-encoded colour, any channel, or coverage), both take
+/// the rest of their samples. A flag per pixel, row by row.
+std::vector<uint8_t> pixelsThatStandOut(const RenderImage& firstSamples, double threshold);
+
 /// makeSampler() is called once per tile (so that it can hold per-thread
 /// state such as grid accessors) and returns a callable
 /// void(SamplePacket& packet, CameraSample* seen) that fills seen[i] for
 /// each lane i < packet.count. A group of pixels' samples come one packet
 /// after another: sample 0 of each, then sample 1, and so on; each pixel
 /// sums its samples in that order.
+///
+/// With ImageSettings::adaptiveThreshold above 0, every pixel takes its
+/// first sample, and only those that stand out from a neighbour
+/// (pixelsThatStandOut) take the others: their packets hold the block's
+/// pixels that do.
 template<typename MakePacketSampler>
 RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler& makeSampler)
 {
     const ImageSettings& settings = f.settings->image;
     const int width = settings.width, height = settings.height, samplesPerPixel = settings.samplesPerPixel;
+    const bool adaptive = settings.adaptiveThreshold > 0.0 && samplesPerPixel > 1;
     RenderImage image;
     image.width = width;
     image.height = height;
     image.rgba.assign(std::size_t(width) * height * 4, 0.0f);
     image.depth.assign(std::size_t(width) * height, std::numeric_limits<float>::infinity());
 
-    PixelProgress progress(f.progress, std::size_t(width) * height);
+    // Each pixel's sums over the samples it has taken, in double, in sample order.
+    struct PixelSums {
+        Vec3d colour{0.0};
+        double alpha = 0.0;
+        int samples = 0;
+    };
+    std::vector<PixelSums> sums(std::size_t(width) * height);
+    const auto finish = [&] {
+        tbb::parallel_for(0, height, [&](int y) {
+            for (std::size_t pixel = std::size_t(y) * width; pixel < std::size_t(y + 1) * width; ++pixel) {
+                const PixelSums& sum = sums[pixel];
+                const double n = sum.samples;
+                float* out = &image.rgba[4 * pixel];
+                out[0] = float(sum.colour[0] / n);
+                out[1] = float(sum.colour[1] / n);
+                out[2] = float(sum.colour[2] / n);
+                out[3] = float(sum.alpha / n);
+            }
+        });
+    };
+
+    // The second pass visits every tile again, taking some of its pixels.
+    PixelProgress progress(f.progress, std::size_t(width) * height * (adaptive ? 2 : 1));
+    // Samples [firstSample, lastSample) of a tile's pixels that `take` says (all when null).
+    const auto sampleTile = [&](const tbb::blocked_range2d<int>& r, int firstSample, int lastSample,
+                                const std::vector<uint8_t>* take) {
+        auto sampler = makeSampler();
+        SamplePacket packet;
+        std::array<CameraSample, SamplePacket::kSize> seen;
+        std::array<uint32_t, SamplePacket::kSize> lanePixels;
+        std::size_t pixels = 0;
+        for (int y = r.rows().begin(); y != r.rows().end(); ++y)
+            for (int block = r.cols().begin(); block != r.cols().end(); ++block) {
+                const int x0 = block * SamplePacket::kSize, x1 = std::min(width, x0 + SamplePacket::kSize);
+                pixels += std::size_t(x1 - x0);
+                packet.count = 0;
+                for (int x = x0; x < x1; ++x) {
+                    const uint32_t pixel = uint32_t(y) * uint32_t(width) + uint32_t(x);
+                    if (!take || (*take)[pixel]) lanePixels[packet.count++] = pixel;
+                }
+                for (int sample = firstSample; sample < lastSample && packet.count > 0; ++sample) {
+                    for (int lane = 0; lane < packet.count; ++lane) {
+                        const uint32_t pixel = packet.pixels[lane] = lanePixels[lane];
+                        SampleRandom& random = packet.randoms[lane] = SampleRandom(uint32_t(f.frame), pixel, uint32_t(sample));
+                        // One sample at the pixel centre, the rest jittered over it.
+                        const double jx = samplesPerPixel == 1 ? 0.5 : random.next();
+                        const double jy = samplesPerPixel == 1 ? 0.5 : random.next();
+                        packet.dirs[lane] = f.camera.direction(pixel % uint32_t(width) + jx, pixel / uint32_t(width) + jy);
+                    }
+                    sampler(packet, seen.data());
+                    for (int lane = 0; lane < packet.count; ++lane) {
+                        PixelSums& sum = sums[lanePixels[lane]];
+                        sum.colour += seen[lane].radiance;
+                        sum.alpha += seen[lane].alpha;
+                        ++sum.samples;
+                        float& depth = image.depth[lanePixels[lane]];
+                        depth = std::min(depth, seen[lane].depth);
+                    }
+                }
+            }
+        progress.add(pixels);
+    };
     // Tiles of 16 rows by two packets' columns. Packets are whole blocks of
     // kSize columns, the same whatever tiles the threads take: which pixels
     // share a packet can decide which of two triangles an edge's ray hits
@@ -89,54 +163,20 @@ RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler&
     // thread count.
     constexpr int kTileRows = 16, kTileBlocks = 2;
     const int blocks = (width + SamplePacket::kSize - 1) / SamplePacket::kSize;
-    const auto renderTile = [&](const tbb::blocked_range2d<int>& r) {
-        auto sampler = makeSampler();
-        SamplePacket packet;
-        std::array<CameraSample, SamplePacket::kSize> seen;
-        std::size_t pixels = 0;
-        for (int y = r.rows().begin(); y != r.rows().end(); ++y)
-            for (int block = r.cols().begin(); block != r.cols().end(); ++block) {
-                const int x0 = block * SamplePacket::kSize;
-                packet.count = std::min(SamplePacket::kSize, width - x0);
-                pixels += std::size_t(packet.count);
-                std::array<Vec3d, SamplePacket::kSize> colour;
-                std::array<double, SamplePacket::kSize> alpha;
-                std::array<float, SamplePacket::kSize> depth;
-                colour.fill(Vec3d(0.0));
-                alpha.fill(0.0);
-                depth.fill(std::numeric_limits<float>::infinity());
-                for (int sample = 0; sample < samplesPerPixel; ++sample) {
-                    for (int lane = 0; lane < packet.count; ++lane) {
-                        const int x = x0 + lane;
-                        const uint32_t pixel = uint32_t(y) * uint32_t(width) + uint32_t(x);
-                        SampleRandom& random = packet.randoms[lane] = SampleRandom(uint32_t(f.frame), pixel, uint32_t(sample));
-                        // One sample at the pixel centre, the rest jittered over it.
-                        const double jx = samplesPerPixel == 1 ? 0.5 : random.next();
-                        const double jy = samplesPerPixel == 1 ? 0.5 : random.next();
-                        packet.dirs[lane] = f.camera.direction(x + jx, y + jy);
-                        packet.pixels[lane] = pixel;
-                    }
-                    sampler(packet, seen.data());
-                    for (int lane = 0; lane < packet.count; ++lane) {
-                        colour[lane] += seen[lane].radiance;
-                        alpha[lane] += seen[lane].alpha;
-                        depth[lane] = std::min(depth[lane], seen[lane].depth);
-                    }
-                }
-                const double n = samplesPerPixel;
-                for (int lane = 0; lane < packet.count; ++lane) {
-                    const uint32_t pixel = packet.pixels[lane];
-                    float* out = &image.rgba[4 * std::size_t(pixel)];
-                    out[0] = float(colour[lane][0] / n);
-                    out[1] = float(colour[lane][1] / n);
-                    out[2] = float(colour[lane][2] / n);
-                    out[3] = float(alpha[lane] / n);
-                    image.depth[pixel] = depth[lane];
-                }
-            }
-        progress.add(pixels);
+    const auto samplePixels = [&](int firstSample, int lastSample, const std::vector<uint8_t>* take) {
+        tbb::parallel_for(tbb::blocked_range2d<int>(0, height, kTileRows, 0, blocks, kTileBlocks),
+                          [&](const tbb::blocked_range2d<int>& r) { sampleTile(r, firstSample, lastSample, take); });
     };
-    tbb::parallel_for(tbb::blocked_range2d<int>(0, height, kTileRows, 0, blocks, kTileBlocks), renderTile);
+
+    if (!adaptive) {
+        samplePixels(0, samplesPerPixel, nullptr);
+    } else {
+        samplePixels(0, 1, nullptr);
+        finish();
+        const std::vector<uint8_t> standOut = pixelsThatStandOut(image, settings.adaptiveThreshold);
+        samplePixels(1, samplesPerPixel, &standOut);
+    }
+    finish();
     return image;
 }
 
