@@ -312,14 +312,63 @@ private:
     std::vector<double> mUpperWeight, mOffset;
 };
 
-/// The 3x3x3 neighbourhood of coarse voxel c, n[1][1][1] its own value.
-template<typename AccessorT, typename ValueT>
-void readNeighbourhood(AccessorT& accessor, const openvdb::Coord& c, ValueT (&n)[3][3][3])
-{
-    for (int dx = 0; dx < 3; ++dx)
-        for (int dy = 0; dy < 3; ++dy)
-            for (int dz = 0; dz < 3; ++dz) n[dx][dy][dz] = ValueT(accessor.getValue(c.offsetBy(dx - 1, dy - 1, dz - 1)));
-}
+/// The values of one leaf's box of a tree and of the layer of voxels around
+/// it (10 x 10 x 10), copied from the 27 leaves there when a voxel of another
+/// leaf is asked for: the 3x3x3 neighbourhoods of a leaf's voxels are read
+/// from memory, not by 27 accessor reads each (which took a fifth of the
+/// displaced detail's time).
+template<typename TreeT>
+class LeafHalo {
+public:
+    using ValueT = typename TreeT::ValueType;
+
+    explicit LeafHalo(const TreeT& tree) : mAccessor(tree) {}
+
+    /// The 3x3x3 neighbourhood of voxel c, n[1][1][1] its own value: what
+    /// the tree's accessor reads there.
+    template<typename OutT>
+    void neighbourhood(const openvdb::Coord& c, OutT (&n)[3][3][3])
+    {
+        const openvdb::Coord origin = c & ~(kDim - 1);
+        if (origin != mOrigin) load(origin);
+        const openvdb::Coord local = c - origin; // the halo's voxel (local + 1) is c
+        for (int dx = 0; dx < 3; ++dx)
+            for (int dy = 0; dy < 3; ++dy)
+                for (int dz = 0; dz < 3; ++dz)
+                    n[dx][dy][dz] = OutT(mValues[index(local.x() + dx, local.y() + dy, local.z() + dz)]);
+    }
+
+private:
+    using LeafT = typename TreeT::LeafNodeType;
+    static constexpr int kDim = int(LeafT::DIM), kSide = kDim + 2;
+    static int index(int x, int y, int z) { return (x * kSide + y) * kSide + z; }
+
+    void load(const openvdb::Coord& origin)
+    {
+        mOrigin = origin;
+        // Each of the 27 leaves' values, or the one value over its box (a tile's or the background).
+        const LeafT* leaves[27];
+        ValueT tiles[27];
+        for (int n = 0; n < 27; ++n) {
+            const openvdb::Coord at = origin.offsetBy((n / 9 - 1) * kDim, (n / 3 % 3 - 1) * kDim, (n % 3 - 1) * kDim);
+            leaves[n] = mAccessor.probeConstLeaf(at);
+            if (!leaves[n]) tiles[n] = mAccessor.getValue(at);
+        }
+        const auto slot = [](int v) { return v < 0 ? 0 : v < kDim ? 1 : 2; };
+        for (int x = -1; x <= kDim; ++x)
+            for (int y = -1; y <= kDim; ++y)
+                for (int z = -1; z <= kDim; ++z) {
+                    const int n = slot(x) * 9 + slot(y) * 3 + slot(z);
+                    mValues[index(x + 1, y + 1, z + 1)] =
+                        leaves[n] ? leaves[n]->getValue(openvdb::Coord(x & (kDim - 1), y & (kDim - 1), z & (kDim - 1)))
+                                  : tiles[n];
+                }
+    }
+
+    openvdb::tree::ValueAccessor<const TreeT, /*IsSafe=*/false> mAccessor;
+    openvdb::Coord mOrigin{std::numeric_limits<openvdb::Int32>::max()}; ///< of the leaf loaded; none yet
+    std::array<ValueT, kSide * kSide * kSide> mValues;
+};
 
 /// The active voxels of `grid`'s topology, in its index space.
 openvdb::MaskGrid::Ptr topologyOf(const openvdb::FloatGrid& grid)
@@ -723,19 +772,20 @@ openvdb::FloatGrid::Ptr displacedDensity(const openvdb::FloatGrid& density, cons
         openvdb::Vec3s n[3][3][3];
     };
     return resampleFiner(density, *nearSurface, ratio, [&] {
-        std::vector<openvdb::Vec3SGrid::ConstAccessor> offsetAt;
-        for (const auto& offset : offsets) offsetAt.push_back(offset->getConstAccessor());
-        return [&, densityAt = density.getConstAccessor(), distanceAt = movedDistance->getConstAccessor(),
-                offsetAt = std::move(offsetAt), offsetNeighbourhoods = std::vector<OffsetNeighbourhood>(offsets.size())](
-                   const openvdb::Coord& c, double* values) mutable {
+        std::vector<LeafHalo<openvdb::Vec3STree>> offsetAt;
+        for (const auto& offset : offsets) offsetAt.emplace_back(offset->tree());
+        return [&, densityAt = LeafHalo<openvdb::FloatTree>(density.tree()),
+                distanceAt = LeafHalo<openvdb::FloatTree>(movedDistance->tree()), offsetAt = std::move(offsetAt),
+                offsetNeighbourhoods = std::vector<OffsetNeighbourhood>(offsets.size())](const openvdb::Coord& c,
+                                                                                         double* values) mutable {
             // Each fine voxel reads the 2x2x2 coarse voxels around it: all
             // of them lie in this neighbourhood, and its distance below the
             // neighbourhood's greatest.
             float d[3][3][3];
-            readNeighbourhood(distanceAt, c, d);
+            distanceAt.neighbourhood(c, d);
             const float greatest = *std::max_element(&d[0][0][0], &d[0][0][0] + 27);
             float rho[3][3][3];
-            readNeighbourhood(densityAt, c, rho);
+            densityAt.neighbourhood(c, rho);
             // Inside, at least the surface's density doubled: a lump of the
             // finest octave is a fine voxel or two across and must still show.
             const auto insideAt = [&](int i, int j, int k) { return std::max(double(taps.at(rho, i, j, k)), edgeSoftness); };
@@ -745,7 +795,7 @@ openvdb::FloatGrid::Ptr displacedDensity(const openvdb::FloatGrid& density, cons
                         for (int k = 0; k < ratio; ++k) *values++ = insideAt(i, j, k);
                 return;
             }
-            for (std::size_t r = 0; r < offsets.size(); ++r) readNeighbourhood(offsetAt[r], c, offsetNeighbourhoods[r].n);
+            for (std::size_t r = 0; r < offsets.size(); ++r) offsetAt[r].neighbourhood(c, offsetNeighbourhoods[r].n);
             for (int i = 0; i < ratio; ++i)
                 for (int j = 0; j < ratio; ++j)
                     for (int k = 0; k < ratio; ++k) {
