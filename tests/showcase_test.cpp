@@ -84,19 +84,26 @@ TEST_CASE("showcase: the cloud bank climbs the ridge along the ground, crosses i
             }
         return b;
     };
-    // How many particles the scene's camera has in its frame (1280x720).
-    const Camera camera = Camera::fromSettings(scene.render.camera, 1280, 720);
-    const auto inFrame = [&] {
+    // The particles that still carry density (those sunk the condensation's
+    // depth below their peak have evaporated) outside the scene's camera's
+    // frame (its resolution's aspect).
+    const Camera camera = Camera::fromSettings(scene.render.camera, scene.render.image.width, scene.render.image.height);
+    const Condensation& condensation = scene.volume.condensation;
+    const auto visibleOutOfFrame = [&] {
+        const ParticleSet& particles = sim.particles();
         std::size_t count = 0;
-        for (const Vec3f& p : sim.particles().position) {
-            const Vec3d d = Vec3d(p) - camera.position();
+        for (std::size_t i = 0; i < particles.size(); ++i) {
+            const Vec3d d = Vec3d(particles.position[i]) - camera.position();
             const double depth = d.dot(camera.forward());
-            count += depth > 0.0 && std::abs(d.dot(camera.right())) <= depth * camera.tanHalfFov() * camera.aspect() &&
-                     std::abs(d.dot(camera.up())) <= depth * camera.tanHalfFov();
+            const bool inFrame = depth > 0.0 &&
+                                 std::abs(d.dot(camera.right())) <= depth * camera.tanHalfFov() * camera.aspect() &&
+                                 std::abs(d.dot(camera.up())) <= depth * camera.tanHalfFov();
+            const float y = particles.position[i].y(), peak = particles.peak.size() == particles.size() ? particles.peak[i] : y;
+            count += !inFrame && condensation.share(y, peak) > 0.0f;
         }
         return count;
     };
-    std::size_t fewestInFrame = inFrame();
+    std::size_t mostVisibleOutOfFrame = visibleOutOfFrame();
     std::map<int, std::array<Band, 2>> at{{1, bands()}};
     double minimumClearance = std::numeric_limits<double>::max();
     uint64_t penetrations = 0;
@@ -107,7 +114,7 @@ TEST_CASE("showcase: the cloud bank climbs the ridge along the ground, crosses i
         minimumClearance = std::min(minimumClearance, stats.minimum);
         penetrations += stats.penetrations;
         for (const Vec3f& p : sim.particles().position) highest = std::max(highest, double(p[1]));
-        fewestInFrame = std::min(fewestInFrame, inFrame());
+        mostVisibleOutOfFrame = std::max(mostVisibleOutOfFrame, visibleOutOfFrame());
         if (frame % 40 == 0) at[frame] = bands();
     }
     double crestHeight = 0.0; // the ridge's highest point along its line
@@ -119,7 +126,7 @@ TEST_CASE("showcase: the cloud bank climbs the ridge along the ground, crosses i
                                << "; beyond at frame 200: " << beyond.count << " at altitude " << beyond.altitude
                                << "; at frame 240: " << end.count << " at altitude " << end.altitude << " (crest " << crestHeight
                                << "), " << end.aboveGround << " above the ground; highest " << highest << "; clearance "
-                               << minimumClearance << "; in the camera's frame at least " << fewestInFrame);
+                               << minimumClearance << "; visible beyond the camera's frame at most " << mostVisibleOutOfFrame);
     CHECK(penetrations == 0);
     CHECK(minimumClearance > 0.0);
     CHECK(start.count == sim.particles().size()); // the bank starts upwind of the ridge
@@ -132,8 +139,10 @@ TEST_CASE("showcase: the cloud bank climbs the ridge along the ground, crosses i
     CHECK(end.altitude < crestHeight);
     // Nothing is flung skyward (a field growing linearly with a surface boost of 20 threw plumes beyond this).
     CHECK(highest < crestHeight + 40.0);
-    // The whole bank is in view from the first frame to the last.
-    CHECK(fewestInFrame == sim.particles().size());
+    // The whole visible bank is in view from the first frame to the last
+    // (at frame 240, 259 of these 4,000 particles have sunk below the
+    // frame's lower edge, evaporated).
+    CHECK(mostVisibleOutOfFrame == 0);
 }
 
 TEST_CASE("showcase: the octree and distance fields keep the cloud off the terrain, a potential flow hugs it",

@@ -13,6 +13,6 @@ constexpr int kShowcaseSamplesPerPixel = 3;
 
 /// scenes/cloud_bank.json's particle count (the main job's); mainJobAtFrame120
 /// checks that the scene still says so.
-constexpr int64_t kMainJobParticles = 1'000'000;
+constexpr int64_t kMainJobParticles = 250'000;
 
 } // namespace vfield::bench
