@@ -582,23 +582,45 @@ SurfaceDistance::SurfaceDistance(const openvdb::FloatGrid& density, float surfac
                 const LeafNeighbourhood<openvdb::Vec3STree> closestAround(closest->tree(), leaf.origin());
                 openvdb::FloatTree::LeafNodeType& distanceLeaf = *distance->tree().probeLeaf(leaf.origin());
                 const openvdb::MaskTree::LeafNodeType* insideLeaf = inside.probeConstLeaf(leaf.origin());
+                const openvdb::MaskTree::LeafNodeType* knownHere = knownAround.leaves[13];
+                const openvdb::Vec3STree::LeafNodeType* closestHere = closestAround.leaves[13];
+                constexpr int kDim = int(openvdb::MaskTree::LeafNodeType::DIM);
                 for (auto v = leaf.cbeginValueOn(); v; ++v) {
                     const openvdb::Coord local = v.getCoord() - leaf.origin();
                     double nearest = std::numeric_limits<double>::infinity();
                     openvdb::Vec3s best(0.0f);
-                    for (int dx = -1; dx <= 1; ++dx)
-                        for (int dy = -1; dy <= 1; ++dy)
-                            for (int dz = -1; dz <= 1; ++dz) {
-                                const int x = local.x() + dx, y = local.y() + dy, z = local.z() + dz;
-                                const auto [knownLeaf, offset] = knownAround.at(x, y, z);
-                                if (!knownLeaf || !knownLeaf->isValueOn(offset)) continue;
-                                const openvdb::Vec3s candidate = closestAround.at(x, y, z).first->getValue(offset);
-                                const double squared = (openvdb::Vec3d(candidate) - v.getCoord().asVec3d()).lengthSqr();
-                                if (squared < nearest) {
-                                    nearest = squared;
-                                    best = candidate;
+                    const auto consider = [&](const openvdb::Vec3s& candidate) {
+                        const double squared = (openvdb::Vec3d(candidate) - v.getCoord().asVec3d()).lengthSqr();
+                        if (squared < nearest) {
+                            nearest = squared;
+                            best = candidate;
+                        }
+                    };
+                    // A voxel off the leaf's faces has its 26 neighbours in
+                    // the leaf itself: read at offsets from its own, without
+                    // finding each one's leaf (the detail stage 0.44 -> 0.42
+                    // s a frame at the main job's frames 196-200). The same
+                    // candidates in the same order.
+                    const bool inside = local.x() > 0 && local.x() < kDim - 1 && local.y() > 0 && local.y() < kDim - 1 &&
+                                        local.z() > 0 && local.z() < kDim - 1;
+                    if (inside && knownHere) {
+                        const int here = int(v.pos());
+                        for (int dx = -1; dx <= 1; ++dx)
+                            for (int dy = -1; dy <= 1; ++dy)
+                                for (int dz = -1; dz <= 1; ++dz) {
+                                    const auto offset = openvdb::Index(here + (dx * kDim + dy) * kDim + dz);
+                                    if (knownHere->isValueOn(offset)) consider(closestHere->getValue(offset));
                                 }
-                            }
+                    } else {
+                        for (int dx = -1; dx <= 1; ++dx)
+                            for (int dy = -1; dy <= 1; ++dy)
+                                for (int dz = -1; dz <= 1; ++dz) {
+                                    const int x = local.x() + dx, y = local.y() + dy, z = local.z() + dz;
+                                    const auto [knownLeaf, offset] = knownAround.at(x, y, z);
+                                    if (knownLeaf && knownLeaf->isValueOn(offset))
+                                        consider(closestAround.at(x, y, z).first->getValue(offset));
+                                }
+                    }
                     closestAround.leaves[13]->setValueOnly(v.pos(), best);
                     const double d = std::sqrt(nearest) * voxel;
                     distanceLeaf.setValueOnly(v.pos(), float(insideLeaf && insideLeaf->isValueOn(v.pos()) ? -d : d));
