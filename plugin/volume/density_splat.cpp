@@ -315,8 +315,8 @@ private:
 /// The values of one leaf's box of a tree and of the layer of voxels around
 /// it (10 x 10 x 10), copied from the 27 leaves there when a voxel of another
 /// leaf is asked for: the 3x3x3 neighbourhoods of a leaf's voxels are read
-/// from memory, not by 27 accessor reads each (which took a fifth of the
-/// displaced detail's time).
+/// from memory, not by 27 accessor reads each (the displaced detail 0.46 ->
+/// 0.435 s a frame at the stirred bank's frames 195-200).
 template<typename TreeT>
 class LeafHalo {
 public:
@@ -601,9 +601,9 @@ SurfaceDistance::SurfaceDistance(const openvdb::FloatGrid& density, float surfac
                     // finding each one's leaf (the detail stage 0.44 -> 0.42
                     // s a frame at the main job's frames 196-200). The same
                     // candidates in the same order.
-                    const bool inside = local.x() > 0 && local.x() < kDim - 1 && local.y() > 0 && local.y() < kDim - 1 &&
-                                        local.z() > 0 && local.z() < kDim - 1;
-                    if (inside && knownHere) {
+                    const bool offFaces = local.x() > 0 && local.x() < kDim - 1 && local.y() > 0 && local.y() < kDim - 1 &&
+                                          local.z() > 0 && local.z() < kDim - 1;
+                    if (offFaces && knownHere) {
                         const int here = int(v.pos());
                         for (int dx = -1; dx <= 1; ++dx)
                             for (int dy = -1; dy <= 1; ++dy)
