@@ -25,15 +25,13 @@ void putVector(std::ostream& out, const std::vector<T>& values)
 }
 
 class Reader {
-    static constexpr const char* kTruncated = "the saved simulation state is truncated";
-
 public:
     explicit Reader(const std::string& bytes) : mBytes(bytes) {}
     template<typename T>
     T get()
     {
         T value;
-        need(sizeof value);
+        need(1, sizeof value);
         std::memcpy(&value, mBytes.data() + mAt, sizeof value);
         mAt += sizeof value;
         return value;
@@ -42,8 +40,7 @@ public:
     void getVector(std::vector<T>& values)
     {
         const auto n = get<uint64_t>();
-        // Divided, not multiplied: a damaged count's n * sizeof(T) can wrap to a few bytes.
-        if (n > (mBytes.size() - mAt) / sizeof(T)) throw ValueError(kTruncated);
+        need(n, sizeof(T));
         values.resize(n);
         // An empty vector's data() may be null, which memcpy must not be given even for no bytes.
         if (n > 0) std::memcpy(values.data(), mBytes.data() + mAt, n * sizeof(T));
@@ -52,9 +49,11 @@ public:
     bool atEnd() const { return mAt == mBytes.size(); }
 
 private:
-    void need(uint64_t n) const
+    /// Throws unless `count` values of `size` bytes remain. Divided, not
+    /// multiplied: a damaged count's count * size can wrap to a few bytes.
+    void need(uint64_t count, std::size_t size) const
     {
-        if (n > mBytes.size() - mAt) throw ValueError(kTruncated);
+        if (count > (mBytes.size() - mAt) / size) throw ValueError("the saved simulation state is truncated");
     }
     const std::string& mBytes;
     std::size_t mAt = 0;
