@@ -71,6 +71,7 @@ void RunProgress::attach(SimulateOptions& simulate, RenderRunOptions& render)
     };
     render.progress = [this](int frame, int done, int, double) {
         const std::lock_guard<std::mutex> lock(mMutex);
+        if (!mSinceRenderStarted) mSinceRenderStarted.emplace();
         mRendered = done;
         mRenderedShare = double(done) / mFrames;
         mRendering = "rendered frame " + std::to_string(frame);
@@ -78,6 +79,7 @@ void RunProgress::attach(SimulateOptions& simulate, RenderRunOptions& render)
     };
     render.frameProgress = [this](int frame, int done, int, double fraction) {
         const std::lock_guard<std::mutex> lock(mMutex);
+        if (!mSinceRenderStarted) mSinceRenderStarted.emplace();
         mRendered = done;
         mRenderedShare = (done + fraction) / mFrames;
         mRendering = renderingFrame(frame, fraction);
@@ -88,8 +90,21 @@ void RunProgress::attach(SimulateOptions& simulate, RenderRunOptions& render)
 void RunProgress::show()
 {
     if (!mSinceFirstFrame) mSinceFirstFrame.emplace();
-    mLine.update(mRendered, mFrames, mSinceFirstFrame->seconds(), "(simulated: " + mSimulating + "; " + mRendering + ")",
-                 0.5 * (mSimulatedShare + mRenderedShare));
+    const double elapsed = mSinceFirstFrame->seconds();
+    // Seconds left for a stage that took `seconds` for `share` of its work; unknown before any.
+    const auto left = [](double seconds, double share) -> std::optional<double> {
+        if (share <= 0.0) return std::nullopt;
+        return seconds / share * (1.0 - share);
+    };
+    const std::optional<double> simulation = left(elapsed, mSimulatedShare);
+    const std::optional<double> render =
+        mSinceRenderStarted ? left(mSinceRenderStarted->seconds(), mRenderedShare) : std::nullopt;
+    double fraction = 0.0; // of the run done, as the line's ETA reads it; 0: no pace known yet
+    if (simulation || render) {
+        const double remaining = std::max(simulation.value_or(0.0), render.value_or(0.0));
+        fraction = elapsed + remaining > 0.0 ? elapsed / (elapsed + remaining) : 1.0;
+    }
+    mLine.update(mRendered, mFrames, elapsed, "(simulated: " + mSimulating + "; " + mRendering + ")", fraction);
 }
 
 } // namespace vfield::cli

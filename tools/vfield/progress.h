@@ -44,8 +44,10 @@ std::string renderingFrame(int frame, double fraction);
 
 /// One line for a simulation and the render following it (`vfield run`,
 /// scene_run.h), told from both stages' threads: the frames rendered, what
-/// each stage is at, and the ETA from both stages' share of their frames,
-/// timed from the first frame as `simulate` and `render` time theirs.
+/// each stage is at, and the ETA: the later of the two stages' ends, each at
+/// its own pace (the simulation's from its first frame, the render's from
+/// its first report). Averaging the two shares told a run whose simulation
+/// had finished at 1:40 to go with 10 minutes of frames left to render.
 class RunProgress {
 public:
     /// frames: how many the render is to finish.
@@ -61,7 +63,7 @@ private:
     int mFrames, mRendered = 0;
     double mSimulatedShare = 0.0, mRenderedShare = 0.0;
     std::string mSimulating = "preparing", mRendering = "waiting";
-    std::optional<Stopwatch> mSinceFirstFrame;
+    std::optional<Stopwatch> mSinceFirstFrame, mSinceRenderStarted;
 };
 
 } // namespace vfield::cli
