@@ -271,9 +271,13 @@ TEST_CASE("sim folder: frames are stamped with their simulation and written at t
     CHECK(stamp.metaValue<std::string>("vfield:inputsHash").size() == 16);
     CHECK(stamp.metaValue<int32_t>("vfield:frame") == 1);
 
-    // The same grids, within a 16-bit float's rounding, in two thirds of the
-    // bytes (half the bytes a voxel; the 32-bit floats' low bits compress a little).
+    // The same grids, within a 16-bit float's rounding, in fewer bytes: half
+    // the bytes a voxel before compression, which evens them out in part (under 0.70
+    // of the bytes with the showcase's former eroded detail, 0.84 with its
+    // displaced one).
     const openvdb::FloatGrid::Ptr a = small.readDensity(1), b = large.readDensity(1);
+    CHECK(a->saveFloatAsHalf());
+    CHECK_FALSE(b->saveFloatAsHalf());
     CHECK(a->activeVoxelCount() == b->activeVoxelCount());
     double worst = 0.0;
     auto other = b->getConstAccessor();
@@ -285,7 +289,7 @@ TEST_CASE("sim folder: frames are stamped with their simulation and written at t
     const auto bytes = [](const std::string& path) { return double(std::filesystem::file_size(path)); };
     INFO("density " << bytes(small.densityFile(1)) << " against " << bytes(large.densityFile(1)) << " bytes, particles "
                     << bytes(small.particlesFile(1)) << " against " << bytes(large.particlesFile(1)));
-    CHECK(bytes(small.densityFile(1)) < 0.7 * bytes(large.densityFile(1)));
+    CHECK(bytes(small.densityFile(1)) < 0.9 * bytes(large.densityFile(1)));
     CHECK(bytes(small.particlesFile(1)) < 0.6 * bytes(large.particlesFile(1)));
 }
 
