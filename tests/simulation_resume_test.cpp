@@ -111,6 +111,27 @@ TEST_CASE("simulator: a run resumed from a state saved frames before its last ke
     CHECK(SimFolder(dir).readRunState().records.size() == 16);
 }
 
+TEST_CASE("simulator: a run tells when the folder holds every frame, also when an earlier run had written them all",
+          "[sim][resume]")
+{
+    // `vfield run` shows the simulation's state beside the render's: a rerun
+    // that finds every frame written reports no frame, and showed
+    // "preparing" to its end.
+    const Scene scene = test::showcaseAtTestResolution("cloud_over_terrain.json", 100, 4);
+    const std::string dir = test::scratchDir("finished");
+    std::vector<int> finished;
+    int framesReported = 0;
+    SimulateOptions options;
+    options.finished = [&](int lastFrame) { finished.push_back(lastFrame); };
+    options.progress = [&](const FrameProgress&) { ++framesReported; };
+    simulateScene(scene, dir, options);
+    CHECK(finished == std::vector<int>{4});
+    CHECK(framesReported == 4);
+    simulateScene(scene, dir, options);
+    CHECK(finished == std::vector<int>{4, 4});
+    CHECK(framesReported == 4);
+}
+
 TEST_CASE("simulator: an output folder of another scene file is refused", "[sim][resume]")
 {
     const std::string dir = test::scratchDir("other-scene");

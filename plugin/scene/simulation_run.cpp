@@ -320,6 +320,7 @@ SimulateSummary simulateScene(const Scene& scene, const std::string& outputDir, 
         }
     }
 
+    if (options.finished) options.finished(writeLast);
     if (!part) writeHostScene(scene, folder); // the merge writes a sharded simulation's
     summary.addFrames(run.records);
     return summary;

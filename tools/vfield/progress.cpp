@@ -69,6 +69,12 @@ void RunProgress::attach(SimulateOptions& simulate, RenderRunOptions& render)
         mSimulating = "frame " + std::to_string(p.frame) + ", " + std::to_string(p.alive) + " particles";
         show();
     };
+    simulate.finished = [this](int lastFrame) {
+        const std::lock_guard<std::mutex> lock(mMutex);
+        mSimulatedShare = 1.0;
+        mSimulating = "through frame " + std::to_string(lastFrame);
+        show();
+    };
     render.progress = [this](int frame, int done, int, double) {
         const std::lock_guard<std::mutex> lock(mMutex);
         if (!mSinceRenderStarted) mSinceRenderStarted.emplace();
@@ -100,7 +106,8 @@ void RunProgress::show()
     const std::optional<double> render =
         mSinceRenderStarted ? left(mSinceRenderStarted->seconds(), mRenderedShare) : std::nullopt;
     double fraction = 0.0; // of the run done, as the line's ETA reads it; 0: no pace known yet
-    if (simulation || render) {
+    // A simulation found complete tells nothing of the render's pace.
+    if (render || (simulation && mSimulatedShare < 1.0)) {
         const double remaining = std::max(simulation.value_or(0.0), render.value_or(0.0));
         fraction = elapsed + remaining > 0.0 ? elapsed / (elapsed + remaining) : 1.0;
     }

@@ -49,6 +49,10 @@ struct SimulateOptions {
     std::optional<int> firstFrame, lastFrame;
     /// Called after each frame (from the calling thread).
     std::function<void(const FrameProgress&)> progress;
+    /// Called once the folder holds every frame to write, before the host
+    /// scene is written: also when an earlier run had written them all, and
+    /// `progress` was never called.
+    std::function<void(int lastFrame)> finished;
     /// Told each step before the first frame as it starts: building the
     /// fields and exact distances (Simulator::Preparing, from worker threads,
     /// one call at a time), checking an earlier run's frames, writing the
