@@ -1,5 +1,5 @@
-"""vfield's reference path tracer against Blender Cycles on the former main
-job's cloud alone (scenes/features/billowed_bank.json at its first frame, terrain removed,
+"""vfield's reference path tracer against Blender Cycles on the main job's
+cloud alone (scenes/cloud_bank.json at its first frame, terrain removed,
 160x90, seen from 2.6 times its largest radius, black sky, one
 Henyey-Greenstein lobe of g 0.75, albedo 0.97), front-, side- and back-lit
 (the sun 140, 90 and 30 degrees from the view), single and multiple
@@ -14,7 +14,7 @@ maxBounces 1). Its noise is measured: it renders each case SEEDS times with
 other seeds, and the standard error of their mean widens the tolerance.
 
 blender -b --factory-startup --python-exit-code 1 --python test_cycles_light.py --
-    --vfield VFIELD --scene scenes/features/billowed_bank.json --work DIR"""
+    --vfield VFIELD --scene scenes/cloud_bank.json --work DIR"""
 
 import argparse
 import math

@@ -118,6 +118,8 @@ struct ImageSettings {
     /// value (sRGB-encoded colour, any channel, or coverage, in [0, 1])
     /// differs from a neighbour's by more than this take all samplesPerPixel,
     /// as POV-Ray's adaptive anti-aliasing does. 0: every pixel takes them all.
+    /// The reference integrator takes them all in every pixel whatever this
+    /// is: deciding from a first sample would keep it from converging.
     double adaptiveThreshold = 0.0; ///< (0..1)
     /// The sky drawn as RGB 0, alpha 0, for compositing over a plate; by
     /// default it is drawn, opaque (alpha 1). Frames are premultiplied either way.
@@ -138,7 +140,7 @@ struct ImageSettings {
                   .range(0, 1)
                   .doc("above 0, only the pixels whose first sample differs from a neighbour's by more than this "
                        "(sRGB colour, any channel, or coverage) take all samplesPerPixel, the others one; 0: every pixel "
-                       "takes them all"));
+                       "takes them all. The reference integrator always takes them all"));
         visit(field("transparentSky", self.transparentSky)
                   .doc("the sky drawn as RGB 0, alpha 0 in EXR frames (premultiplied), for compositing over a plate; "
                        "PNG frames then show black sky. Embree back-end only"));
