@@ -74,3 +74,35 @@ TEST_CASE("camera: a surface between the object and the camera pulls the camera 
     const Vec3d unblocked(10, 10, 0), object = path.back().translation;
     CHECK(near(camera.position(), object + (unblocked - object) * 0.85 * 0.5));
 }
+
+TEST_CASE("camera: a box's image region holds the image of every point of the box, and little more", "[camera]")
+{
+    const Camera camera(Vec3d(0, 5, 40), Vec3d(3, 2, 0), Vec3d(0, 1, 0), 45.0, 320, 180);
+    const BBoxd box(Vec3d(-4, 0, -6), Vec3d(10, 6, 2));
+    const ImageRegion region = camera.regionOf(box);
+    REQUIRE(!region.empty());
+    // A grid of points over the box (its corners among them): the pixel
+    // that sees each lies within the region, and the farthest on each side
+    // are its edges.
+    double x0 = 1e9, y0 = 1e9, x1 = -1e9, y1 = -1e9;
+    for (int i = 0; i <= 8; ++i)
+        for (int j = 0; j <= 8; ++j)
+            for (int k = 0; k <= 8; ++k) {
+                const Vec3d p = box.min() + (box.max() - box.min()) * Vec3d(i, j, k) / 8.0;
+                // The pixel that sees p, on the image plane at distance 1; direction() confirms it.
+                const Vec3d d = p - camera.position();
+                const double depth = d.dot(camera.forward());
+                const double x = (d.dot(camera.right()) / (depth * camera.tanHalfFov() * camera.aspect()) + 1.0) * 160.0;
+                const double y = (1.0 - d.dot(camera.up()) / (depth * camera.tanHalfFov())) * 90.0;
+                CHECK((camera.direction(x, y) - d.unitSafe()).length() < 1e-9);
+                x0 = std::min(x0, x), y0 = std::min(y0, y), x1 = std::max(x1, x), y1 = std::max(y1, y);
+            }
+    CHECK(region.x0 == Approx(std::max(0.0, x0)));
+    CHECK(region.y0 == Approx(std::max(0.0, y0)));
+    CHECK(region.x1 == Approx(std::min(320.0, x1)));
+    CHECK(region.y1 == Approx(std::min(180.0, y1)));
+
+    // Reaching behind the camera, a box may appear anywhere: the whole image.
+    const ImageRegion around = camera.regionOf(BBoxd(Vec3d(-1, 4, 30), Vec3d(1, 6, 50)));
+    CHECK((around.x0 == 0.0 && around.y0 == 0.0 && around.x1 == 320.0 && around.y1 == 180.0));
+}

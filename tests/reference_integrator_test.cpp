@@ -268,7 +268,7 @@ TEST_CASE("reference: in a dense cloud with structure finer than the light grids
 }
 
 TEST_CASE("reference: in a thick cloud, the fast integrator with multiple scattering by paths is the reference's within "
-          "5%, front-, side- and back-lit",
+          "5%, front-, side- and back-lit, however coarse its lattice",
           "[render][reference]")
 {
     // Optical radius 12, albedo 0.97, one strongly forward lobe, the sun
@@ -282,8 +282,17 @@ TEST_CASE("reference: in a thick cloud, the fast integrator with multiple scatte
         scene.settings.sky.intensity = 0.0;
         scene.settings.integrator.multipleScattering.method = MultipleScatteringMethod::Paths;
         const Agreement all = compare(scene, chordThroughTheSphere, 64);
-        INFO("sun towards " << toSun << ": fast " << all.fast << ", reference " << all.reference << " +- " << all.referenceError);
+        // Points 24 voxels apart, the sphere's radius: the paths' light,
+        // gathered where they scatter, keeps its mean over the image. Traced
+        // from the lattice's points themselves, it came out 0.85 / 0.86 / 0.88
+        // of the reference lit from behind the camera, the side and ahead
+        // (and 1.00 / 0.89 / 0.76 at 6 voxels).
+        scene.settings.integrator.multipleScattering.pathSpacing = 24;
+        const double coarse = meanRadiance(scene.render(IntegratorKind::Fast, 16), scene.cloudPixels(chordThroughTheSphere, 1.0));
+        INFO("sun towards " << toSun << ": fast " << all.fast << ", with a coarse lattice " << coarse << ", reference "
+                            << all.reference << " +- " << all.referenceError);
         CHECK(all.relative() < 0.05);
+        CHECK(std::abs(coarse - all.reference) < 0.05 * all.reference);
     }
 }
 

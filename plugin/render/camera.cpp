@@ -35,6 +35,25 @@ Vec3d Camera::direction(double x, double y) const
     return (mForward + u * mRight + v * mUp).unitSafe();
 }
 
+ImageRegion Camera::regionOf(const BBoxd& box) const
+{
+    const ImageRegion image{0.0, 0.0, double(mWidth), double(mHeight)};
+    ImageRegion region{image.x1, image.y1, image.x0, image.y0};
+    for (int corner = 0; corner < 8; ++corner) {
+        const Vec3d p((corner & 1 ? box.max() : box.min())[0], (corner & 2 ? box.max() : box.min())[1],
+                      (corner & 4 ? box.max() : box.min())[2]);
+        const Vec3d d = p - mPosition;
+        const double depth = d.dot(mForward);
+        if (depth <= 0.0) return image;
+        // direction()'s mapping inverted.
+        const double x = (d.dot(mRight) / (depth * mTanHalf * mAspect) + 1.0) * 0.5 * mWidth;
+        const double y = (1.0 - d.dot(mUp) / (depth * mTanHalf)) * 0.5 * mHeight;
+        region = {std::min(region.x0, x), std::min(region.y0, y), std::max(region.x1, x), std::max(region.y1, y)};
+    }
+    return {std::max(region.x0, image.x0), std::max(region.y0, image.y0), std::min(region.x1, image.x1),
+            std::min(region.y1, image.y1)};
+}
+
 namespace {
 
 /// The unit horizontal direction of v, or fallback where v is vertical.

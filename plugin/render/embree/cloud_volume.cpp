@@ -72,7 +72,9 @@ CloudVolume::CloudVolume(const CloudLighting& lighting, const MediumSettings& me
     if (lighting.empty()) return;
     mNearStep = lighting.density().voxelSize()[0];
     mSunDepth = OpticalDepthMap(lighting.densityPtr(), lighting.toSun());
-    mSkyDepth = OpticalDepthMap(lighting.densityPtr(), kUp);
+    // The sky's map serves the octaves alone: with paths, the sky's light is
+    // what the paths that escape to it bring (a tenth of a frame's time).
+    if (ms.method == MultipleScatteringMethod::Octaves) mSkyDepth = OpticalDepthMap(lighting.densityPtr(), kUp);
 }
 
 double CloudVolume::surfaceSunTransmittance(const Vec3d& p) const

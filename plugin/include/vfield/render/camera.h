@@ -13,6 +13,14 @@
 
 namespace vfield {
 
+/// A rectangle of the image in pixels, x in [x0, x1], y in [y0, y1].
+struct ImageRegion {
+    double x0 = 0.0, y0 = 0.0, x1 = 0.0, y1 = 0.0;
+    double width() const { return x1 - x0; }
+    double height() const { return y1 - y0; }
+    bool empty() const { return x1 <= x0 || y1 <= y0; }
+};
+
 class Camera {
 public:
     Camera(const Vec3d& position, const Vec3d& lookAt, const Vec3d& up, double fovDegrees, int width, int height);
@@ -32,6 +40,10 @@ public:
     double aspect() const { return mAspect; }
     /// Unit direction through the image point (x right, y down, in pixels).
     Vec3d direction(double x, double y) const;
+    /// The part of the image where something inside `box` can appear: the
+    /// bounds of its corners' images, within the image; all of it when the
+    /// box reaches behind the camera.
+    ImageRegion regionOf(const BBoxd& box) const;
 
 private:
     Vec3d mPosition, mForward, mRight, mUp;

@@ -193,7 +193,8 @@ struct MediumSettings {
 /// Octaves place the light only on average: in a thick cloud the light that
 /// enters, scatters many times and comes back out elsewhere is not where they
 /// put it. `paths` computes it instead, once per frame, with the reference
-/// path tracer's own estimator on a lattice over the cloud (path_tracer.h).
+/// path tracer's own camera paths, gathered on a lattice over the cloud
+/// where they first scatter (path_tracer.h).
 enum class MultipleScatteringMethod { Octaves, Paths };
 inline constexpr EnumName<MultipleScatteringMethod> kMultipleScatteringMethodNames[] = {
     {MultipleScatteringMethod::Octaves, "octaves"}, {MultipleScatteringMethod::Paths, "paths"}};
@@ -206,8 +207,8 @@ struct MultipleScattering {
     double extinctionFalloff = 0.3;    ///< b (0..1)
     double eccentricityFalloff = 0.25; ///< c (0..1)
     double skyScatteringFalloff = 0.5; ///< a for the light of the sky and the ground, diffuse already (0..1)
-    double pathSpacing = 3.0;          ///< paths: lattice spacing, density voxels (1..64)
-    int pathsPerPoint = 32;            ///< paths: reference paths from a lattice point the camera sees unobstructed (1..4096)
+    double pathSpacing = 6.0;          ///< paths: lattice spacing, density voxels (1..64)
+    int pathsPerFrame = 50000;         ///< paths: camera paths gathered into the lattice, at most (1..1e7)
 
     void validate() const;
 
@@ -216,7 +217,7 @@ struct MultipleScattering {
     {
         visit(field("method", self.method)
                   .doc("octaves: the fast approximation below; paths: the reference path tracer's estimate of the light "
-                       "scattered more than once, on a lattice over the cloud, once per frame"));
+                       "scattered more than once, gathered on a lattice over the cloud, once per frame"));
         visit(field("octaves", self.octaves).range(1, 8).doc("octave 0 is single scattering; 1: single scattering only"));
         visit(field("scatteringFalloff", self.scatteringFalloff)
                   .range(0, 1)
@@ -231,11 +232,13 @@ struct MultipleScattering {
         visit(field("pathSpacing", self.pathSpacing)
                   .range(1, 64)
                   .unit("density voxels")
-                  .doc("paths: the lattice's spacing; coarser is faster and darker where the cloud's lit surface curves"));
-        visit(field("pathsPerPoint", self.pathsPerPoint)
-                  .range(1, 4096)
-                  .doc("paths: reference paths traced from each lattice point the camera sees unobstructed; a "
-                       "point seen through the cloud takes that many times the transmittance between them, at least one"));
+                  .doc("paths: the lattice's spacing; finer keeps more of the light's detail and needs more paths for the "
+                       "same noise"));
+        visit(field("pathsPerFrame", self.pathsPerFrame)
+                  .range(1, 1e7)
+                  .doc("paths: the reference's camera paths whose light, from where they first scatter in the cloud, the "
+                       "lattice gathers (at most; fewer where the cloud covers less than a quarter of its box's part of "
+                       "the image); the same at any resolution, and what a frame's time grows with"));
     }
 };
 

@@ -25,10 +25,10 @@
 namespace vfield {
 
 /// The light that leaves points of a lattice over the cloud after they
-/// scatter it: what a path that scatters at a point carries back from the
+/// scatter it: what a path that scatters near a point carries back from the
 /// rest of its way (the point's own albedo and the sun's direct light there
-/// left out), in RGB, read trilinearly. Estimated per frame by the
-/// reference's paths (path_tracer.h), read by the fast integrator's march.
+/// left out), in RGB, read trilinearly. Gathered per frame from the
+/// reference's camera paths (path_tracer.h), read by the fast integrator's march.
 struct ScatteredLightGrid {
     std::array<DenseGrid, 3> rgb;
     Vec3d at(const Vec3d& p) const { return Vec3d(rgb[0].at(p), rgb[1].at(p), rgb[2].at(p)); }
