@@ -390,7 +390,7 @@ ScatteredLightGrid traceScatteredLight(const FrameToRender& f)
     // rays are cast, and at most pathsPerFrame of those that scatter, evenly
     // spread over them, go on. Their number does not depend on the image's
     // resolution: a preview's lattice is the final frame's.
-    constexpr int kRaysPerPath = 4;
+    constexpr int kRaysPerPath = 4; // 80 bytes a ray: 320 MB at most (pathsPerFrame <= 1e6)
     const ImageRegion region = f.camera.regionOf(box);
     if (region.empty()) return grid;
     const std::size_t paths = std::size_t(settings.pathsPerFrame);

@@ -208,7 +208,7 @@ struct MultipleScattering {
     double eccentricityFalloff = 0.25; ///< c (0..1)
     double skyScatteringFalloff = 0.5; ///< a for the light of the sky and the ground, diffuse already (0..1)
     double pathSpacing = 6.0;          ///< paths: lattice spacing, density voxels (1..64)
-    int pathsPerFrame = 50000;         ///< paths: camera paths gathered into the lattice, at most (1..1e7)
+    int pathsPerFrame = 50000;         ///< paths: camera paths gathered into the lattice, at most (1..1e6)
 
     void validate() const;
 
@@ -235,7 +235,7 @@ struct MultipleScattering {
                   .doc("paths: the lattice's spacing; finer keeps more of the light's detail and needs more paths for the "
                        "same noise"));
         visit(field("pathsPerFrame", self.pathsPerFrame)
-                  .range(1, 1e7)
+                  .range(1, 1e6)
                   .doc("paths: the reference's camera paths whose light, from where they first scatter in the cloud, the "
                        "lattice gathers (at most; fewer where the cloud covers less than a quarter of its box's part of "
                        "the image); the same at any resolution, and what a frame's time grows with"));
