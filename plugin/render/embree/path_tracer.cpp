@@ -470,27 +470,11 @@ ScatteredLightGrid traceScatteredLight(const FrameToRender& f)
     // in the paths' order: the same lattice for any thread count. The sums
     // go into the grid, then become means.
     std::vector<float> weights(lattice.size(), 0.0f);
-    for (const Gathered& path : gathered) {
-        const Vec3d u = (path.position - box.min()) / spacing;
-        std::array<int, 3> cell;
-        std::array<double, 3> fraction;
-        for (int axis = 0; axis < 3; ++axis) {
-            cell[axis] = std::clamp(int(std::floor(u[axis])), 0, points[axis] - 2);
-            fraction[axis] = std::clamp(u[axis] - cell[axis], 0.0, 1.0);
-        }
-        for (int corner = 0; corner < 8; ++corner) {
-            double weight = 1.0;
-            std::array<int, 3> at;
-            for (int axis = 0; axis < 3; ++axis) {
-                const bool upper = (corner >> axis) & 1;
-                at[axis] = cell[axis] + upper;
-                weight *= upper ? fraction[axis] : 1.0 - fraction[axis];
-            }
-            const std::size_t n = lattice.index(at[0], at[1], at[2]);
+    for (const Gathered& path : gathered)
+        lattice.forCorners(path.position, [&](std::size_t n, double weight) {
             weights[n] += float(weight);
             for (int c = 0; c < 3; ++c) grid.rgb[c][n] += float(weight * path.light[c]);
-        }
-    }
+        });
     // A point no path came near takes its neighbours' mean: where the cloud
     // is thin few paths scatter, and a point left at zero darkened the reads
     // beside it. Such points are written and only the others read.

@@ -7,6 +7,7 @@
 
 #include <vfield/core/math.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -85,6 +86,32 @@ public:
         const float x2 = corner[4] + (corner[5] - corner[4]) * fx, x3 = corner[6] + (corner[7] - corner[6]) * fx;
         const float y0 = x0 + (x1 - x0) * fy, y1 = x2 + (x3 - x2) * fy;
         return y0 + (y1 - y0) * fz;
+    }
+
+    /// visit(index, weight) for the eight points a trilinear read at p
+    /// weighs, with their weights (summing to one); p beyond the lattice is
+    /// taken at its nearest point inside. What spreads a value over the
+    /// lattice so that reads give it back.
+    template<typename Visit>
+    void forCorners(const Vec3d& p, const Visit& visit) const
+    {
+        const Vec3d u = (p - mOrigin) * mInverseSpacing;
+        std::array<int, 3> cell;
+        std::array<double, 3> fraction;
+        for (int axis = 0; axis < 3; ++axis) {
+            cell[axis] = std::clamp(int(std::floor(u[axis])), 0, std::max(0, mPoints[axis] - 2));
+            fraction[axis] = mPoints[axis] < 2 ? 0.0 : std::clamp(u[axis] - cell[axis], 0.0, 1.0);
+        }
+        for (int corner = 0; corner < 8; ++corner) {
+            double weight = 1.0;
+            std::array<int, 3> at;
+            for (int axis = 0; axis < 3; ++axis) {
+                const bool upper = (corner >> axis) & 1;
+                at[axis] = cell[axis] + (upper && mPoints[axis] > 1);
+                weight *= upper ? fraction[axis] : 1.0 - fraction[axis];
+            }
+            if (weight > 0.0) visit(index(at[0], at[1], at[2]), weight);
+        }
     }
 
 private:
