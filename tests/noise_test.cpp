@@ -171,14 +171,16 @@ TEST_CASE("noise: fBm and billow, alone or batched, are their octaves summed one
         for (int q = 0; q < 4; ++q)
             queries[q] = {Vec3f(coordinate(random), coordinate(random), coordinate(random)),
                           FractalOptions{1 + (n + 3 * q) % 16, 2.0, 0.5 + 0.1 * q}};
-        float batched[4];
+        float batched[4], batchedBillows[4];
         fbm(noise, queries, 4, batched);
+        billow(noise, queries, 4, batchedBillows);
         for (const FbmQuery& query : queries) {
             const float expected = octaveByOctave(noise, query.point, query.options, false);
             differing += !sameBits(fbm(noise, query.point, query.options), expected);
             differing += !sameBits(batched[&query - queries], expected);
-            differing +=
-                !sameBits(billow(noise, query.point, query.options), octaveByOctave(noise, query.point, query.options, true));
+            const float expectedBillow = octaveByOctave(noise, query.point, query.options, true);
+            differing += !sameBits(billow(noise, query.point, query.options), expectedBillow);
+            differing += !sameBits(batchedBillows[&query - queries], expectedBillow);
         }
     }
     CHECK(differing == 0);
@@ -189,5 +191,6 @@ TEST_CASE("noise: fBm and billow, alone or batched, are their octaves summed one
                                  {Vec3f(0.0f), {1, 2.0, 0.5}}};
     float values[5];
     CHECK_THROWS_WITH(fbm(noise, tooMany, 5, values), Catch::Contains("64 at once"));
+    CHECK_THROWS_WITH(billow(noise, tooMany, 5, values), Catch::Contains("64 at once"));
     CHECK_THROWS_WITH(fbm(noise, Vec3f(0.0f), {17, 2.0, 0.5}), Catch::Contains("more than 16 octaves"));
 }

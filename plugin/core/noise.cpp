@@ -112,7 +112,6 @@ void cellSample(const Floats4 (&g)[8][3], Floats4 dx, Floats4 dy, Floats4 dz, Fl
 /// At most this many octaves a fractal sum takes (FractalOptions::octaves),
 /// and octaves of several sums evaluated together.
 constexpr int kMaxOctaves = 16;
-constexpr int kMaxBatchOctaves = 64;
 
 /// The noise of each octave of the fBm queries, as fbm samples them, one
 /// query after another in values: four lanes at a time, the last run of one
@@ -165,6 +164,20 @@ float fbmSum(const float* values, const FractalOptions& options)
         amplitude *= float(options.gain);
     }
     return sum / total;
+}
+
+/// billow's sum of one query's octave noise.
+float billowSum(const float* values, const FractalOptions& options)
+{
+    float sum = 0.0f, amplitude = 1.0f, total = 0.0f;
+    for (int octave = 0; octave < options.octaves; ++octave) {
+        sum += amplitude * std::abs(values[octave]);
+        total += amplitude;
+        amplitude *= float(options.gain);
+    }
+    // |noise| averages about a quarter and seldom passes a half: doubled, the
+    // sum spans about [0, 1].
+    return std::min(1.0f, 2.0f * sum / total);
 }
 
 } // namespace
@@ -351,15 +364,15 @@ float billow(const GradientNoise& noise, const Vec3f& p, const FractalOptions& o
     float values[kMaxOctaves];
     const FbmQuery query{p, options};
     octaveNoise(noise, &query, 1, values); // fbm's
-    float sum = 0.0f, amplitude = 1.0f, total = 0.0f;
-    for (int octave = 0; octave < options.octaves; ++octave) {
-        sum += amplitude * std::abs(values[octave]);
-        total += amplitude;
-        amplitude *= float(options.gain);
-    }
-    // |noise| averages about a quarter and seldom passes a half: doubled, the
-    // sum spans about [0, 1].
-    return std::min(1.0f, 2.0f * sum / total);
+    return billowSum(values, options);
+}
+
+void billow(const GradientNoise& noise, const FbmQuery* queries, std::size_t count, float* values)
+{
+    float octaves[kMaxBatchOctaves];
+    octaveNoise(noise, queries, count, octaves);
+    for (std::size_t q = 0, first = 0; q < count; first += std::size_t(queries[q].options.octaves), ++q)
+        values[q] = billowSum(octaves + first, queries[q].options);
 }
 
 float fbm(const GradientNoise& noise, float x, float y, const FractalOptions& options)

@@ -62,9 +62,12 @@ struct FbmQuery {
     Vec3f point;
     FractalOptions options;
 };
+/// At most this many octaves, summed over their queries, one batched call
+/// below evaluates.
+constexpr int kMaxBatchOctaves = 64;
 /// values[i] = fbm(noise, queries[i].point, queries[i].options), bit for
 /// bit, with the octaves of all count queries evaluated together, four at a
-/// time (at most 64 octaves in all; ValueError beyond).
+/// time (at most kMaxBatchOctaves in all; ValueError beyond).
 void fbm(const GradientNoise& noise, const FbmQuery* queries, std::size_t count, float* values);
 /// fbm in 3D with its exact gradient, with respect to p.
 NoiseSample fbmSample(const GradientNoise& noise, const Vec3f& p, const FractalOptions& options);
@@ -72,6 +75,9 @@ NoiseSample fbmSample(const GradientNoise& noise, const Vec3f& p, const FractalO
 /// pattern is rounded lumps with sharp creases between them where the noise
 /// crosses zero: cauliflower, the outline of a cumulus.
 float billow(const GradientNoise& noise, const Vec3f& p, const FractalOptions& options);
+/// values[i] = billow(noise, queries[i].point, queries[i].options), bit for
+/// bit, batched as fbm's: a sum of three octaves alone leaves a lane idle.
+void billow(const GradientNoise& noise, const FbmQuery* queries, std::size_t count, float* values);
 
 /// Musgrave's ridged multifractal in 2D, about [0, 1]: sharp crests where the
 /// noise crosses zero, each octave weighted by the one before, so crests carry
