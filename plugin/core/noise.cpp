@@ -180,6 +180,17 @@ float billowSum(const float* values, const FractalOptions& options)
     return std::min(1.0f, 2.0f * sum / total);
 }
 
+/// Each query's octave noise (octaveNoise, all the queries' together),
+/// summed by sum(its octaves' values, its options): fbmSum or billowSum.
+template<typename Sum>
+void fractalSums(const GradientNoise& noise, const FbmQuery* queries, std::size_t count, float* values, Sum sum)
+{
+    float octaves[kMaxBatchOctaves];
+    octaveNoise(noise, queries, count, octaves);
+    for (std::size_t q = 0, first = 0; q < count; first += std::size_t(queries[q].options.octaves), ++q)
+        values[q] = sum(octaves + first, queries[q].options);
+}
+
 } // namespace
 
 GradientNoise::GradientNoise(uint64_t seed)
@@ -326,18 +337,15 @@ std::array<NoiseSample, 4> GradientNoise::sample(const std::array<Vec3f, 4>& p) 
 
 float fbm(const GradientNoise& noise, const Vec3f& p, const FractalOptions& options)
 {
-    float values[kMaxOctaves];
     const FbmQuery query{p, options};
-    octaveNoise(noise, &query, 1, values);
-    return fbmSum(values, options);
+    float value;
+    fbm(noise, &query, 1, &value);
+    return value;
 }
 
 void fbm(const GradientNoise& noise, const FbmQuery* queries, std::size_t count, float* values)
 {
-    float octaves[kMaxBatchOctaves];
-    octaveNoise(noise, queries, count, octaves);
-    for (std::size_t q = 0, first = 0; q < count; first += std::size_t(queries[q].options.octaves), ++q)
-        values[q] = fbmSum(octaves + first, queries[q].options);
+    fractalSums(noise, queries, count, values, fbmSum);
 }
 
 NoiseSample fbmSample(const GradientNoise& noise, const Vec3f& p, const FractalOptions& options)
@@ -361,18 +369,15 @@ NoiseSample fbmSample(const GradientNoise& noise, const Vec3f& p, const FractalO
 
 float billow(const GradientNoise& noise, const Vec3f& p, const FractalOptions& options)
 {
-    float values[kMaxOctaves];
     const FbmQuery query{p, options};
-    octaveNoise(noise, &query, 1, values); // fbm's
-    return billowSum(values, options);
+    float value;
+    billow(noise, &query, 1, &value);
+    return value;
 }
 
 void billow(const GradientNoise& noise, const FbmQuery* queries, std::size_t count, float* values)
 {
-    float octaves[kMaxBatchOctaves];
-    octaveNoise(noise, queries, count, octaves);
-    for (std::size_t q = 0, first = 0; q < count; first += std::size_t(queries[q].options.octaves), ++q)
-        values[q] = billowSum(octaves + first, queries[q].options);
+    fractalSums(noise, queries, count, values, billowSum);
 }
 
 float fbm(const GradientNoise& noise, float x, float y, const FractalOptions& options)
