@@ -109,8 +109,8 @@ void cellSample(const Floats4 (&g)[8][3], Floats4 dx, Floats4 dy, Floats4 dz, Fl
     gradient[2] += dw * (k3 + k5 * v + k6 * u + k7 * u * v);
 }
 
-/// At most this many octaves a fractal sum takes (FractalOptions::octaves),
-/// and octaves of several sums evaluated together.
+/// At most this many octaves a fractal sum takes (FractalOptions::octaves);
+/// kMaxBatchOctaves (noise.h) bounds those of several sums evaluated together.
 constexpr int kMaxOctaves = 16;
 
 /// The noise of each octave of the fBm queries, as fbm samples them, one

@@ -730,7 +730,7 @@ public:
     const double* take()
     {
         const std::size_t points = mQueries.size() / std::max<std::size_t>(1, mChannels.size());
-        if (mOctaves.octaves > 0) billow(mNoise, mQueries.data(), mQueries.size(), mSums.data());
+        if (mOctaves.octaves > 0 && points > 0) billow(mNoise, mQueries.data(), mQueries.size(), mSums.data());
         for (std::size_t point = 0; point < points; ++point) {
             float b = 0.0f;
             if (mOctaves.octaves > 0)
