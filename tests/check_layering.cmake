@@ -1,11 +1,13 @@
 # Fails when a stage of libvfield includes a stage after it. Data flows one
-# way: core -> mesh -> field -> sim -> volume -> render -> image -> scene
-# (scene composes the stages for the command line and the plugin API).
+# way: core -> mesh -> field -> sim -> volume -> render -> image, and what
+# composes them: the scene format (scene), the simulation folder's files
+# (folder), what hosts use (host), the runs that make a folder and its images
+# (run), and golden-image cases (golden).
 # render/embree and render/povray are two rooms at one level after render:
 # each may include render's shared files, never the other room. Run as
 #   cmake -DPLUGIN_DIR=<plugin> -P check_layering.cmake
 # Each stage with its level; a file may include its own stage and lower levels.
-set(stages core:0 mesh:1 field:2 sim:3 volume:4 render:5 render/embree:6 render/povray:6 image:7 scene:8 golden:9)
+set(stages core:0 mesh:1 field:2 sim:3 volume:4 render:5 render/embree:6 render/povray:6 image:7 scene:8 folder:9 host:10 run:11 golden:12)
 
 foreach(entry ${stages})
   string(REPLACE ":" ";" pair "${entry}")

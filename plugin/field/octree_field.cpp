@@ -14,7 +14,7 @@
 
 namespace vfield {
 
-void OctreeFieldOptions::validate() const { checkFields(*this); }
+void OctreeFieldSettings::validate() const { checkFields(*this); }
 
 double magnitudeAtLevel(MagnitudeGrowth growth, double strength, double level)
 {
@@ -35,7 +35,7 @@ double OctreeField::boundary(int axis, uint32_t index, int level) const
 
 double OctreeField::magnitude(int level, bool isSurface) const
 {
-    return magnitudeAtLevel(mOptions.growth, mOptions.strength, level) * (isSurface ? mOptions.surfaceBoost : 1.0);
+    return magnitudeAtLevel(mSettings.growth, mSettings.strength, level) * (isSurface ? mSettings.surfaceBoost : 1.0);
 }
 
 Vec3f OctreeField::forceOf(const Node& node) const { return node.direction * float(magnitude(node.level, node.isSurface)); }
@@ -58,9 +58,9 @@ constexpr std::size_t kParallelTriangles = 4096;
 
 class OctreeBuilder {
 public:
-    OctreeBuilder(std::vector<BuildTriangle> triangles, const OctreeFieldOptions& options,
+    OctreeBuilder(std::vector<BuildTriangle> triangles, const OctreeFieldSettings& options,
                   const std::function<double(int, uint32_t, int)>& boundary)
-        : mTriangles(std::move(triangles)), mOptions(options), mBoundary(boundary)
+        : mTriangles(std::move(triangles)), mSettings(options), mBoundary(boundary)
     {}
 
     /// Fills out[index] for the node at `cell` of `level` holding `inside`, and
@@ -75,9 +75,9 @@ public:
             const Vec3d average = sum / double(inside.size());
             if (average.length() >= kZeroAverage) direction = Vec3f(average.unitSafe());
         }
-        const bool split = (inside.size() > std::size_t(mOptions.maxPerLeaf) ||
-                            (mOptions.splitRule == SplitRule::NormalCone && normalsOppose(inside))) &&
-                           level < mOptions.maxLevel;
+        const bool split = (inside.size() > std::size_t(mSettings.maxPerLeaf) ||
+                            (mSettings.splitRule == SplitRule::NormalCone && normalsOppose(inside))) &&
+                           level < mSettings.maxLevel;
 
         OctreeField::Node node;
         node.level = uint8_t(level);
@@ -193,14 +193,14 @@ private:
     }
 
     std::vector<BuildTriangle> mTriangles;
-    const OctreeFieldOptions& mOptions;
+    const OctreeFieldSettings& mSettings;
     std::function<double(int, uint32_t, int)> mBoundary;
     std::atomic<int> mDepth{1};
 };
 
 } // namespace
 
-OctreeField OctreeField::build(const TriangleMesh& mesh, const OctreeFieldOptions& options)
+OctreeField OctreeField::build(const TriangleMesh& mesh, const OctreeFieldSettings& options)
 {
     options.validate();
 
@@ -224,7 +224,7 @@ OctreeField OctreeField::build(const TriangleMesh& mesh, const OctreeFieldOption
             throw ValueError("the mesh has non-finite coordinates");
 
     OctreeField field;
-    field.mOptions = options;
+    field.mSettings = options;
     const double largestExtent = box.extents()[box.maxExtent()];
     const double margin = options.margin.value_or(0.1 * largestExtent);
     const double side = largestExtent + 2.0 * margin;
@@ -238,7 +238,7 @@ OctreeField OctreeField::build(const TriangleMesh& mesh, const OctreeFieldOption
 
     std::vector<uint32_t> all(triangles.size());
     for (std::size_t i = 0; i < all.size(); ++i) all[i] = uint32_t(i);
-    OctreeBuilder builder(std::move(triangles), field.mOptions,
+    OctreeBuilder builder(std::move(triangles), field.mSettings,
                           [&field](int axis, uint32_t index, int level) { return field.boundary(axis, index, level); });
     field.mNodes.resize(1);
     const uint32_t rootCell[3] = {0, 0, 0};

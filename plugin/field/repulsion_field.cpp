@@ -17,7 +17,7 @@
 
 namespace vfield {
 
-void RepulsionOptions::validate() const
+void RepulsionSettings::validate() const
 {
     checkFields(*this);
     if (voxelSize)
@@ -120,7 +120,7 @@ namespace {
 
 class OctreeRepulsion final : public RepulsionField {
 public:
-    OctreeRepulsion(const TriangleMesh& mesh, const OctreeFieldOptions& options, FieldSampling sampling)
+    OctreeRepulsion(const TriangleMesh& mesh, const OctreeFieldSettings& options, FieldSampling sampling)
         : mOctree(OctreeField::build(mesh, options))
     {
         mMethod = RepulsionMethod::Octree;
@@ -146,7 +146,7 @@ private:
 /// the voxel and the level a distance maps to.
 class GridRepulsion final : public RepulsionField {
 public:
-    GridRepulsion(const TriangleMesh& mesh, const RepulsionOptions& options, FieldSampling sampling, const Vec3d& wind,
+    GridRepulsion(const TriangleMesh& mesh, const RepulsionSettings& options, FieldSampling sampling, const Vec3d& wind,
                   const Progress& progress);
 
 private:
@@ -162,13 +162,13 @@ private:
     void buildDistance(const TriangleMesh& mesh);
     void buildPotentialFlow(const TriangleMesh& mesh, const Vec3d& wind, const Progress& progress);
 
-    RepulsionOptions mOptions;
+    RepulsionSettings mOptions;
     double mMargin = 0.0, mVoxel = 0.0;
     openvdb::math::Transform::Ptr mTransform;
 };
 
-GridRepulsion::GridRepulsion(const TriangleMesh& mesh, const RepulsionOptions& options, FieldSampling sampling, const Vec3d& wind,
-                             const Progress& progress)
+GridRepulsion::GridRepulsion(const TriangleMesh& mesh, const RepulsionSettings& options, FieldSampling sampling,
+                             const Vec3d& wind, const Progress& progress)
     : mOptions(options)
 {
     mMethod = options.method;
@@ -324,7 +324,7 @@ void GridRepulsion::buildPotentialFlow(const TriangleMesh& mesh, const Vec3d& wi
 
 } // namespace
 
-std::shared_ptr<const RepulsionField> RepulsionField::build(const TriangleMesh& mesh, const RepulsionOptions& options,
+std::shared_ptr<const RepulsionField> RepulsionField::build(const TriangleMesh& mesh, const RepulsionSettings& options,
                                                             FieldSampling sampling, const Vec3d& wind, const Progress& progress)
 {
     options.validate();

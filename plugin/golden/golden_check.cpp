@@ -38,7 +38,7 @@ GoldenImageResult compareImage(const GoldenCase& c, const std::string& image, co
         r.verdict = GoldenVerdict::Fail;
         return r;
     }
-    ImageCompareOptions options = c.compare;
+    ImageCompareOptions options = c.compare.imageCompareOptions();
     r.difference = outDir + "/" + fs::path(image).stem().string() + ".diff.png";
     options.diffPath = r.difference;
     r.comparison = compareImages(r.golden, r.output, options);
@@ -132,7 +132,8 @@ GoldenCaseResult compareGoldenOutputs(const std::string& name, const GoldenCase&
     for (const std::string& image : c.images) {
         GoldenImageResult& r = result.images.emplace_back(compareImage(c, image, outDir));
         worsen(r.verdict);
-        if (r.verdict == GoldenVerdict::Fail) result.messages.push_back(describeImageDifference(r, c.compare));
+        if (r.verdict == GoldenVerdict::Fail)
+            result.messages.push_back(describeImageDifference(r, c.compare.imageCompareOptions()));
     }
     for (const GoldenGrid& grid : c.grids) {
         GoldenGridResult& r = result.grids.emplace_back(compareGrid(c, grid, outDir));
@@ -152,9 +153,9 @@ void acceptGoldenOutputs(GoldenCase& c, const std::string& outDir, const std::st
         if (fs::exists(golden)) {
             GoldenImageResult old;
             old.name = fs::path(image).filename().string();
-            old.comparison = compareImages(golden, output, c.compare);
+            old.comparison = compareImages(golden, output, c.compare.imageCompareOptions());
             if (!old.comparison.sizeMismatch.empty()) old.problem = "sizes differ: " + old.comparison.sizeMismatch;
-            entry.differences.push_back(describeImageDifference(old, c.compare));
+            entry.differences.push_back(describeImageDifference(old, c.compare.imageCompareOptions()));
         }
         copyIntoPlace(output, golden);
     }

@@ -178,7 +178,8 @@ void writeJUnitReport(const std::vector<GoldenCaseResult>& results, const std::s
         std::string details;
         for (const std::string& message : r.messages) details += message + "\n";
         std::string output;
-        for (const GoldenImageResult& image : r.images) output += describeImageDifference(image, r.goldenCase.compare) + "\n";
+        for (const GoldenImageResult& image : r.images)
+            output += describeImageDifference(image, r.goldenCase.compare.imageCompareOptions()) + "\n";
         for (const GoldenGridResult& grid : r.grids)
             output += grid.name + ": checksum " + grid.actual + (grid.problem.empty() ? "" : ", " + grid.problem) + "\n";
         xml += ">\n";
@@ -213,7 +214,7 @@ void writeHtmlReport(const std::vector<GoldenCaseResult>& results, const std::st
             html += "</ul>\n";
         }
         for (const GoldenImageResult& image : r->images)
-            html += imageSection(image, r->goldenCase.compare, "image-" + std::to_string(index++));
+            html += imageSection(image, r->goldenCase.compare.imageCompareOptions(), "image-" + std::to_string(index++));
         html += gridRows(*r) + "</section>\n";
     }
     html += "<script>" + std::string(kScript) + "</script>\n</body></html>\n";

@@ -7,26 +7,26 @@
 
 namespace vfield {
 
-void MeshSource::validate() const { checkFields(*this); }
+void MeshSettings::validate() const { checkFields(*this); }
 
-TriangleMesh makeMesh(const MeshSource& source, MeshLoadReport* report)
+TriangleMesh makeMesh(const MeshSettings& source, MeshLoadReport* report)
 {
     source.validate();
     TriangleMesh mesh;
     switch (source.kind) {
-    case MeshSource::Kind::File:
+    case MeshSettings::Kind::File:
         mesh = loadMesh(source.path, report);
         break;
-    case MeshSource::Kind::Terrain:
+    case MeshSettings::Kind::Terrain:
         mesh = makeTerrain(source.terrain);
         break;
-    case MeshSource::Kind::Heightmap:
+    case MeshSettings::Kind::Heightmap:
         mesh = makeHeightmapTerrain(source.heightmap);
         break;
-    case MeshSource::Kind::Sphere:
+    case MeshSettings::Kind::Sphere:
         mesh = makeSphere(source.sphere);
         break;
-    case MeshSource::Kind::Box:
+    case MeshSettings::Kind::Box:
         mesh = makeBox(source.box);
         break;
     }

@@ -51,7 +51,7 @@ double distanceToPolyline(const std::vector<Vec2d>& line, const Vec2d& p)
 
 /// 1 on the path, falling smoothly to 0 at halfWidth; sharper walls keep it
 /// near 1 longer (a flat floor) and drop it faster at the rim.
-double carveProfile(double distance, const TerrainCarve& carve)
+double carveProfile(double distance, const CarveSettings& carve)
 {
     const double s = std::clamp(distance / carve.halfWidth, 0.0, 1.0);
     const double shaped = std::pow(s, carve.wallSharpness);
@@ -60,23 +60,23 @@ double carveProfile(double distance, const TerrainCarve& carve)
 
 } // namespace
 
-void TerrainCarve::validate() const
+void CarveSettings::validate() const
 {
     checkFields(*this);
     require(path.size() >= 2, "path", "expected at least two points [x, z]");
     requireNumber("wallRoughness", wallRoughness, 0.0, halfWidth);
 }
 
-void TerrainOptions::validate() const
+void TerrainSettings::validate() const
 {
     checkFields(*this);
     require(double(cellsX) * cellsZ <= kMaxCells, "cells",
             "expected at most 64 million cells in all, got " + std::to_string(cellsX) + " x " + std::to_string(cellsZ));
 }
 
-void SphereOptions::validate() const { checkFields(*this); }
+void SphereSettings::validate() const { checkFields(*this); }
 
-void BoxOptions::validate() const
+void BoxSettings::validate() const
 {
     for (int axis = 0; axis < 3; ++axis) require(max[axis] > min[axis], "", "max must exceed min on every axis");
 }
@@ -86,9 +86,9 @@ namespace {
 /// Evaluates heights with the noise and dense carve paths built once.
 class TerrainHeightField {
 public:
-    explicit TerrainHeightField(const TerrainOptions& options) : mOptions(options), mNoise(options.seed)
+    explicit TerrainHeightField(const TerrainSettings& options) : mOptions(options), mNoise(options.seed)
     {
-        for (const TerrainCarve& carve : options.carves) mPaths.push_back(samplePath(carve.path));
+        for (const CarveSettings& carve : options.carves) mPaths.push_back(samplePath(carve.path));
     }
 
     double operator()(double x, double z) const
@@ -102,7 +102,7 @@ public:
         if (mOptions.erosion > 0.0) unit = std::pow(std::clamp(unit, 0.0, 1.0), 1.0 + 3.0 * mOptions.erosion);
         double height = mOptions.amplitude * unit;
         for (std::size_t i = 0; i < mPaths.size(); ++i) {
-            const TerrainCarve& carve = mOptions.carves[i];
+            const CarveSettings& carve = mOptions.carves[i];
             double distance = distanceToPolyline(mPaths[i], Vec2d(x, z));
             if (carve.wallRoughness > 0.0) {
                 // Offset from the terrain's own noise so the walls do not echo its crests.
@@ -116,7 +116,7 @@ public:
     }
 
 private:
-    const TerrainOptions& mOptions;
+    const TerrainSettings& mOptions;
     GradientNoise mNoise;
     std::vector<std::vector<Vec2d>> mPaths;
 };
@@ -177,13 +177,13 @@ TriangleMesh heightfieldSolid(double sizeX, double sizeZ, int cellsX, int cellsZ
 
 } // namespace
 
-double terrainHeight(const TerrainOptions& options, double x, double z)
+double terrainHeight(const TerrainSettings& options, double x, double z)
 {
     options.validate();
     return TerrainHeightField(options)(x, z);
 }
 
-TriangleMesh makeTerrain(const TerrainOptions& o)
+TriangleMesh makeTerrain(const TerrainSettings& o)
 {
     o.validate();
     const TerrainHeightField height(o);
@@ -191,7 +191,7 @@ TriangleMesh makeTerrain(const TerrainOptions& o)
                             [&](int, int, double x, double z) { return height(x, z); });
 }
 
-void HeightmapOptions::validate() const
+void HeightmapSettings::validate() const
 {
     require(!path.empty(), "file", "expected an image file");
     checkFields(*this);
@@ -232,7 +232,7 @@ void fillNoData(ImagePlane& image, const std::string& path)
 
 } // namespace
 
-TriangleMesh makeHeightmapTerrain(const HeightmapOptions& o)
+TriangleMesh makeHeightmapTerrain(const HeightmapSettings& o)
 {
     o.validate();
     ImagePlane image = readImagePlane(o.path);
@@ -251,14 +251,14 @@ TriangleMesh makeHeightmapTerrain(const HeightmapOptions& o)
                                             "\"fillNoData\": true to fill such pixels from their nearest valid neighbour");
     }
     for (std::size_t i = 0; i < image.values.size(); ++i)
-        if (!(std::abs(double(image.values[i]) * o.heightScale) <= HeightmapOptions::kMaxHeight))
+        if (!(std::abs(double(image.values[i]) * o.heightScale) <= HeightmapSettings::kMaxHeight))
             throw FileError(o.path, where(i) + " is " + numberText(double(image.values[i])) + ", a height of " +
                                         numberText(double(image.values[i]) * o.heightScale) + " world units with heightScale " +
-                                        numberText(o.heightScale) + " (at most +-" + numberText(HeightmapOptions::kMaxHeight) +
+                                        numberText(o.heightScale) + " (at most +-" + numberText(HeightmapSettings::kMaxHeight) +
                                         ")");
     const int cellsX = o.cellsX > 0 ? o.cellsX : image.width - 1;
     const int cellsZ = o.cellsZ > 0 ? o.cellsZ : image.height - 1;
-    require(double(cellsX) * cellsZ <= TerrainOptions::kMaxCells, "cells", "expected at most 64 million cells in all");
+    require(double(cellsX) * cellsZ <= TerrainSettings::kMaxCells, "cells", "expected at most 64 million cells in all");
     // Pixel centres span the terrain corner to corner: image x along +x, rows
     // down the image along +z (north up in a map seen from above, -z north).
     const auto pixel = [&](int x, int y) { return double(image.values[std::size_t(y) * image.width + x]); };
@@ -272,7 +272,7 @@ TriangleMesh makeHeightmapTerrain(const HeightmapOptions& o)
     });
 }
 
-TriangleMesh makeSphere(const SphereOptions& o)
+TriangleMesh makeSphere(const SphereSettings& o)
 {
     o.validate();
 
@@ -310,7 +310,7 @@ TriangleMesh makeSphere(const SphereOptions& o)
     return mesh;
 }
 
-TriangleMesh makeBox(const BoxOptions& o)
+TriangleMesh makeBox(const BoxSettings& o)
 {
     o.validate();
     TriangleMesh mesh;

@@ -138,4 +138,10 @@ Vec3d skyLightOnSurface(const SkySettings& sky, const Vec3d& normal)
     return lerp(sky.horizonColor, sky.zenithColor, facingUp) * (facingUp * sky.intensity);
 }
 
+SurfaceMaterial surfaceMaterialOf(const ObjectSettings& object)
+{
+    const bool isGround = object.mesh.kind == MeshSettings::Kind::Terrain || object.mesh.kind == MeshSettings::Kind::Heightmap;
+    return isGround ? SurfaceMaterial::terrain() : SurfaceMaterial::painted(object.color);
+}
+
 } // namespace vfield

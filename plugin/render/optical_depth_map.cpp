@@ -37,9 +37,9 @@ OpticalDepthMap::OpticalDepthMap(openvdb::FloatGrid::ConstPtr densityGrid, const
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, activeLeaves.size()), [&](const tbb::blocked_range<std::size_t>& r) {
         openvdb::tree::ValueAccessor<openvdb::MaskTree> touched(touchedPerThread.local());
         for (std::size_t n = r.begin(); n != r.end(); ++n) {
-            // The box of the leaf's active voxels, not the whole leaf's: in the
-            // stirred bank's faint fringe most leaves hold a few voxels, and
-            // whole leaves made the maps' lattices 40% larger.
+            // The box of the leaf's active voxels, not the whole leaf's: in a
+            // cloud's faint fringe most leaves hold a few voxels, and whole
+            // leaves would make the maps' lattices much larger.
             openvdb::CoordBBox voxels;
             activeLeaves[n]->evalActiveBoundingBox(voxels);
             const openvdb::Vec3d from = voxels.min().asVec3d() - 1.0, to = voxels.max().asVec3d() + 1.0;
@@ -64,7 +64,7 @@ OpticalDepthMap::OpticalDepthMap(openvdb::FloatGrid::ConstPtr densityGrid, const
     // Each column of leaves whole from its first leaf on the light's side to
     // its last: a point between two clouds, where a sample's march towards
     // the light ends, reads the depth of the one nearer the light. Read
-    // where the map held no leaf, it was none.
+    // where the map holds no leaf, it would be none.
     {
         std::vector<const openvdb::MaskTree::LeafNodeType*> touchedLeaves;
         touched.getNodes(touchedLeaves);

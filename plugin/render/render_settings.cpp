@@ -16,7 +16,7 @@ void SunSettings::validate() const { checkFields(*this); }
 void SkySettings::validate() const { checkFields(*this); }
 void ImageSettings::validate() const { checkFields(*this); }
 void MediumSettings::validate() const { checkFields(*this); }
-void MultipleScattering::validate() const { checkFields(*this); }
+void MultipleScatteringSettings::validate() const { checkFields(*this); }
 void IntegratorSettings::validate() const { checkFields(*this); }
 void RenderSettings::validate() const { checkFields(*this); }
 

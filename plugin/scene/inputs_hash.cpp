@@ -4,7 +4,7 @@
 
 namespace vfield {
 
-uint64_t simulationInputsHash(const SimulationSetup& setup, const VolumeOptions& volume)
+uint64_t simulationInputsHash(const SimulationSettings& setup, const VolumeSettings& volume)
 {
     ContentHash h;
     h.add(std::string("vfield-run 6"));

@@ -21,24 +21,24 @@ constexpr double kBytesPerDensityVoxel = 4.0;
 constexpr double kBaseBytes = 200.0 * 1024 * 1024;
 
 /// Triangles a mesh source will produce, and the key that sets their number.
-std::pair<double, std::string> trianglesOf(const MeshSource& mesh)
+std::pair<double, std::string> trianglesOf(const MeshSettings& mesh)
 {
     switch (mesh.kind) {
-    case MeshSource::Kind::Terrain: {
+    case MeshSettings::Kind::Terrain: {
         const double x = mesh.terrain.cellsX, z = mesh.terrain.cellsZ;
         return {2.0 * x * z + 6.0 * (x + z), "terrain/cells"}; // the surface, its skirts and its base
     }
-    case MeshSource::Kind::Heightmap: {
+    case MeshSettings::Kind::Heightmap: {
         const auto [width, height] = imageResolution(mesh.heightmap.path);
         const double x = mesh.heightmap.cellsX > 0 ? mesh.heightmap.cellsX : std::max(width - 1, 0);
         const double z = mesh.heightmap.cellsZ > 0 ? mesh.heightmap.cellsZ : std::max(height - 1, 0);
         return {2.0 * x * z + 6.0 * (x + z), "heightmap/cells"};
     }
-    case MeshSource::Kind::Sphere:
+    case MeshSettings::Kind::Sphere:
         return {20.0 * std::pow(4.0, mesh.sphere.subdivisions), "sphere/subdivisions"};
-    case MeshSource::Kind::Box:
+    case MeshSettings::Kind::Box:
         return {12.0, "box"};
-    case MeshSource::Kind::File: {
+    case MeshSettings::Kind::File: {
         std::error_code ec;
         const double size = double(std::filesystem::file_size(mesh.path, ec));
         if (ec) return {0.0, "file"}; // loading will report it
@@ -72,7 +72,7 @@ MemoryEstimate estimateSimulationMemory(const Scene& scene)
 {
     MemoryEstimate estimate;
     estimate.bytes = kBaseBytes;
-    const SimulationSetup& setup = scene.simulation;
+    const SimulationSettings& setup = scene.simulation;
     for (std::size_t i = 0; i < setup.objects.size(); ++i) {
         const auto [triangles, key] = trianglesOf(setup.objects[i].mesh);
         MemoryEstimate::Part part{"/objects/" + std::to_string(i) + "/mesh/" + key, countText(triangles) + " triangles",
@@ -81,7 +81,7 @@ MemoryEstimate estimateSimulationMemory(const Scene& scene)
         estimate.parts.push_back(part);
     }
     for (std::size_t c = 0; c < setup.clouds.size(); ++c) {
-        const CloudSpec& cloud = setup.clouds[c];
+        const CloudSettings& cloud = setup.clouds[c];
         // The density covers the particles' kernels, at most the cloud's box (as it starts; it moves and spreads).
         const double voxel = scene.volume.voxelSize, kernel = 2.0 * scene.volume.kernelRadius / voxel + 1.0;
         const double box = 8.0 * cloud.radii[0] * cloud.radii[1] * cloud.radii[2] / (voxel * voxel * voxel);
@@ -96,8 +96,8 @@ MemoryEstimate estimateSimulationMemory(const Scene& scene)
 
 MemoryEstimate estimateMeshFileMemory(const std::string& path)
 {
-    MeshSource source;
-    source.kind = MeshSource::Kind::File;
+    MeshSettings source;
+    source.kind = MeshSettings::Kind::File;
     source.path = path;
     const double triangles = trianglesOf(source).first;
     MemoryEstimate estimate;

@@ -12,9 +12,9 @@
 
 namespace vfield {
 
-const ObjectSpec* Scene::findObject(const std::string& name) const
+const ObjectSettings* Scene::findObject(const std::string& name) const
 {
-    for (const ObjectSpec& object : simulation.objects)
+    for (const ObjectSettings& object : simulation.objects)
         if (object.name == name) return &object;
     return nullptr;
 }
@@ -25,11 +25,11 @@ void Scene::validate() const
     simulation.validate();
     render.validate();
     if (const auto& follow = render.camera.follow) {
-        const ObjectSpec* target = findObject(follow->object);
+        const ObjectSettings* target = findObject(follow->object);
         require(target && target->isDynamic, "camera",
                 "\"follow\" names \"" + follow->object + "\", which is not a dynamic object of the scene");
     }
-    for (const CloudSpec& cloud : simulation.clouds) {
+    for (const CloudSettings& cloud : simulation.clouds) {
         const double voxel = volume.voxelSize;
         const double voxels = 8.0 * cloud.radii[0] * cloud.radii[1] * cloud.radii[2] / (voxel * voxel * voxel);
         require(voxels <= kMaxDensityVoxels, "volume",
@@ -46,7 +46,7 @@ Scene parseScene(const std::string& text, const std::string& file)
     scene.path = file;
     // The density's defaults follow the clouds' particles, resolved once here.
     double radii = 0.0, particles = 0.0;
-    for (const CloudSpec& cloud : scene.simulation.clouds) {
+    for (const CloudSettings& cloud : scene.simulation.clouds) {
         radii += cloud.particleRadius * double(cloud.count);
         particles += double(cloud.count);
     }

@@ -33,7 +33,7 @@ Quatd slerp(const Quatd& a, Quatd b, double t)
 
 } // namespace
 
-void turnToVelocity(DynamicState& state, const Vec3d& acceleration, const ObjectSpec& spec, double dt)
+void turnToVelocity(DynamicState& state, const Vec3d& acceleration, const ObjectSettings& spec, double dt)
 {
     const Vec3d& velocity = state.velocity;
     const double horizontal = std::hypot(velocity[0], velocity[2]);
@@ -78,7 +78,7 @@ void Simulator::advanceDynamicObjects(double t0, double t1, const std::function<
         if (mObjects[i].spec->isDynamic) dynamic.push_back(i);
     if (dynamic.empty()) return;
 
-    const double reach = mSetup.options.cfl * mFinestCell;
+    const double reach = mSetup.solver.cfl * mFinestCell;
     std::vector<double> rollAtStart;
     for (const std::size_t i : dynamic) rollAtStart.push_back(mStates[i].roll);
     double t = t0;
@@ -89,7 +89,7 @@ void Simulator::advanceDynamicObjects(double t0, double t1, const std::function<
         double dt = t1 - t;
         for (std::size_t d = 0; d < dynamic.size(); ++d) {
             const std::size_t i = dynamic[d];
-            const ObjectSpec& spec = *mObjects[i].spec;
+            const ObjectSettings& spec = *mObjects[i].spec;
             const DynamicState& state = mStates[i];
             Vec3d a = fieldAcceleration(mObjectFields[i], state.pose.translation, t);
             // The paper's hit test: this object's triangle centroids against every other field.
@@ -113,7 +113,7 @@ void Simulator::advanceDynamicObjects(double t0, double t1, const std::function<
         dt = std::max(dt, 1e-9 * (t1 - t0)); // progress even if a limit collapses
         for (std::size_t d = 0; d < dynamic.size(); ++d) {
             DynamicState& state = mStates[dynamic[d]];
-            const ObjectSpec& spec = *mObjects[dynamic[d]].spec;
+            const ObjectSettings& spec = *mObjects[dynamic[d]].spec;
             const Vec3d netAcceleration = acceleration[d] - spec.drag * state.velocity;
             integrateWithDrag(state.pose.translation, state.velocity, acceleration[d], spec.drag, dt);
             turnToVelocity(state, netAcceleration, spec, dt);

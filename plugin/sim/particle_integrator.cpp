@@ -148,7 +148,7 @@ bool Simulator::resolveContacts(const Vec3d& from, Vec3d& x, Vec3d& v, double t,
         // Most substeps of a cloud over terrain: a static surface in world
         // space whose carried bound clears the path, decided as below but
         // before any pose is looked up (one path for all, with the poses
-        // made only for dynamic objects, ran 4% more instructions a substep).
+        // made only for dynamic objects, costs more on every substep).
         // The particle loop makes this test before calling, for all
         // surfaces at once when every one is such.
         if (!isDynamic && inWorld) {
@@ -245,7 +245,7 @@ void Simulator::advanceParticles(double t0, double t1)
     std::vector<uint8_t> alive(n, 1);
     // Counted per task and summed (sums and a maximum: the same for any split).
     std::mutex countsMutex;
-    const double cfl = mSetup.options.cfl;
+    const double cfl = mSetup.solver.cfl;
     measureFieldSpeeds(t0, t1);
     // No cell is finer than this, so a substep starting in one cannot step
     // into finer cells, and without moving fields none sweeps faster over it.
@@ -274,7 +274,7 @@ void Simulator::advanceParticles(double t0, double t1)
         StepStats counts;
         DragFactors drag;
         for (std::size_t p = range.begin(); p != range.end(); ++p) {
-            const CloudSpec& cloud = mSetup.clouds[mParticles.cloud[p]];
+            const CloudSettings& cloud = mSetup.clouds[mParticles.cloud[p]];
             const AccelerationFields& fields = mCloudFields[mParticles.cloud[p]];
             Vec3d x(mParticles.position[p]), v(mParticles.velocity[p]);
             double t = t0;
@@ -357,7 +357,7 @@ void Simulator::advanceParticles(double t0, double t1)
 
 void Simulator::updateRestPositions()
 {
-    const int period = mSetup.options.restPeriod;
+    const int period = mSetup.solver.restPeriod;
     if (period == 0) return;
     // Each rest is reset where its weight is zero: `rest` at the period's
     // start, rest2 half a period later; the weights ramp linearly between.

@@ -9,7 +9,7 @@
 
 namespace vfield {
 
-Vec3d UniformFieldSpec::accelerationAt(const Vec3d& p) const
+Vec3d UniformFieldSettings::accelerationAt(const Vec3d& p) const
 {
     if (!box) return acceleration;
     // Distance from the box (0 inside); the field fades linearly over softEdge.
@@ -24,32 +24,32 @@ Vec3d UniformFieldSpec::accelerationAt(const Vec3d& p) const
     return outside >= softEdge ? Vec3d(0.0) : acceleration * (1.0 - outside / softEdge);
 }
 
-void ObjectSpec::validate() const { checkFields(*this); }
+void ObjectSettings::validate() const { checkFields(*this); }
 
-void CloudSpec::validate() const { checkFields(*this); }
+void CloudSettings::validate() const { checkFields(*this); }
 
-void UniformFieldSpec::validate() const
+void UniformFieldSettings::validate() const
 {
     checkFields(*this);
     require(softEdge == 0.0 || box.has_value(), "softEdge", "\"softEdge\" needs a \"box\"");
 }
 
-bool UniformFieldSpec::acts(const std::string& name) const
+bool UniformFieldSettings::acts(const std::string& name) const
 {
     return affects.empty() || std::find(affects.begin(), affects.end(), name) != affects.end();
 }
 
-void SimulationOptions::validate() const
+void SolverSettings::validate() const
 {
     checkFields(*this);
     if (restPeriod != 0) {
-        requireInteger("restPeriod", restPeriod, 2, SimulationSetup::kMaxFrame - 1);
+        requireInteger("restPeriod", restPeriod, 2, SimulationSettings::kMaxFrame - 1);
         require(restPeriod % 2 == 0, "restPeriod",
                 "restPeriod must be an even number of frames (or 0), not " + std::to_string(restPeriod));
     }
 }
 
-void SimulationSetup::validate() const
+void SimulationSettings::validate() const
 {
     checkFields(*this);
     require(lastFrame >= firstFrame, "frames", "\"end\" comes before \"start\"");
@@ -60,7 +60,8 @@ void SimulationSetup::validate() const
         // A potential flow deflects the clouds' wind; nothing in it would push an aircraft.
         if (objects[i].repulsion && objects[i].repulsion->method == RepulsionMethod::PotentialFlow) {
             require(!objects[i].isDynamic, key + "/repulsion/method", "potentialFlow applies to static objects only");
-            const auto dynamic = std::find_if(objects.begin(), objects.end(), [](const ObjectSpec& o) { return o.isDynamic; });
+            const auto dynamic =
+                std::find_if(objects.begin(), objects.end(), [](const ObjectSettings& o) { return o.isDynamic; });
             require(dynamic == objects.end(), key + "/repulsion/method",
                     "potentialFlow acts on clouds only, and dynamic object \"" +
                         (dynamic == objects.end() ? std::string() : dynamic->name) + "\" would pass through it");
@@ -70,7 +71,7 @@ void SimulationSetup::validate() const
     int64_t particles = 0;
     for (std::size_t i = 0; i < clouds.size(); ++i) {
         const std::string key = "clouds/" + std::to_string(i);
-        const bool flows = std::any_of(objects.begin(), objects.end(), [](const ObjectSpec& o) {
+        const bool flows = std::any_of(objects.begin(), objects.end(), [](const ObjectSettings& o) {
             return o.repulsion && o.repulsion->method == RepulsionMethod::PotentialFlow;
         });
         require(!flows || clouds[i].drag > 0.0, key + "/drag",
@@ -82,9 +83,9 @@ void SimulationSetup::validate() const
     const auto requireMoving = [&](const std::string& key, const std::vector<std::string>& affects) {
         for (std::size_t n = 0; n < affects.size(); ++n) {
             const std::string& name = affects[n];
-            const bool movingObject =
-                std::any_of(objects.begin(), objects.end(), [&](const ObjectSpec& o) { return o.name == name && o.isDynamic; });
-            const bool cloud = std::any_of(clouds.begin(), clouds.end(), [&](const CloudSpec& c) { return c.name == name; });
+            const bool movingObject = std::any_of(objects.begin(), objects.end(),
+                                                  [&](const ObjectSettings& o) { return o.name == name && o.isDynamic; });
+            const bool cloud = std::any_of(clouds.begin(), clouds.end(), [&](const CloudSettings& c) { return c.name == name; });
             require(movingObject || cloud, key + "/affects/" + std::to_string(n),
                     "no dynamic object or cloud is named \"" + name + "\"");
         }

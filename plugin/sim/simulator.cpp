@@ -15,7 +15,7 @@
 
 namespace vfield {
 
-Simulator::Simulator(const SimulationSetup& setup, const Preparing& preparing) : mSetup(setup), mFrame(setup.firstFrame)
+Simulator::Simulator(const SimulationSettings& setup, const Preparing& preparing) : mSetup(setup), mFrame(setup.firstFrame)
 {
     std::mutex reporting;
     const auto report = [&](const std::string& step) {
@@ -29,9 +29,9 @@ Simulator::Simulator(const SimulationSetup& setup, const Preparing& preparing) :
     // What a potential flow deflects: the wind every cloud feels everywhere.
     Vec3d cloudsWind(0.0);
     if (!setup.clouds.empty())
-        for (const UniformFieldSpec& field : setup.fields)
+        for (const UniformFieldSettings& field : setup.fields)
             if (!field.box && std::all_of(setup.clouds.begin(), setup.clouds.end(),
-                                          [&](const CloudSpec& cloud) { return field.acts(cloud.name); }))
+                                          [&](const CloudSettings& cloud) { return field.acts(cloud.name); }))
                 cloudsWind += field.acceleration;
 
     // Meshes and fields, objects in parallel (each build is parallel too).
@@ -49,7 +49,7 @@ Simulator::Simulator(const SimulationSetup& setup, const Preparing& preparing) :
             report(name + ": " + enumName(object.spec->repulsion->method) + " field of " +
                    std::to_string(object.mesh.triangleCount()) + " triangles");
             const auto start = std::chrono::steady_clock::now();
-            object.field = RepulsionField::build(object.mesh, *object.spec->repulsion, mSetup.options.sampling,
+            object.field = RepulsionField::build(object.mesh, *object.spec->repulsion, mSetup.solver.sampling,
                                                  object.spec->transform.rotateToObject(cloudsWind),
                                                  [&](const std::string& step) { report(name + ": " + step); });
             object.fieldSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -62,8 +62,8 @@ Simulator::Simulator(const SimulationSetup& setup, const Preparing& preparing) :
             for (const Vec3f& p : object.mesh.points) object.radius = std::max(object.radius, double(p.length()));
             if (object.isClosed) {
                 report(name + ": exact distance field");
-                // Wider bands cost cubically in voxels (a margin of 20 took 285 voxels
-                // and most of a four-aircraft run) and serve only measurement.
+                // Wider bands cost cubically in voxels (a wide margin can take most
+                // of a run's time) and serve only measurement.
                 const double band =
                     object.field ? std::min(0.5 * (object.field->rootSide() - extent), 0.5 * extent) : 0.1 * extent;
                 object.distance =
@@ -105,8 +105,8 @@ Simulator::Simulator(const SimulationSetup& setup, const Preparing& preparing) :
     // Clouds: each from its own seed stream, mixed with the scene's seed.
     if (!mSetup.clouds.empty()) report("clouds: emitting particles");
     mParticles = emitClouds(mSetup);
-    for (const CloudSpec& cloud : mSetup.clouds) domain.expand(BBoxd(cloud.center - cloud.radii, cloud.center + cloud.radii));
-    mDomain = mSetup.options.domain.value_or(domain);
+    for (const CloudSettings& cloud : mSetup.clouds) domain.expand(BBoxd(cloud.center - cloud.radii, cloud.center + cloud.radii));
+    mDomain = mSetup.solver.domain.value_or(domain);
     // Emitted in random order; splats run about ten times faster over
     // particles in spatial order, which advanceParticles keeps every few frames.
     mParticles.sortSpatially(mDomain);
@@ -120,14 +120,14 @@ Simulator::Simulator(const SimulationSetup& setup, const Preparing& preparing) :
         else fields.rest.push_back(f);
     };
     for (std::size_t f = 0; f < mSetup.fields.size(); ++f) {
-        const UniformFieldSpec& field = mSetup.fields[f];
+        const UniformFieldSettings& field = mSetup.fields[f];
         for (std::size_t i = 0; i < mObjects.size(); ++i)
             if (field.acts(mSetup.objects[i].name)) add(mObjectFields[i], f);
         for (std::size_t c = 0; c < mSetup.clouds.size(); ++c)
             if (field.acts(mSetup.clouds[c].name)) add(mCloudFields[c], f);
     }
     for (std::size_t f = 0; f < mSetup.turbulence.size(); ++f) {
-        const TurbulenceSpec& turbulence = mSetup.turbulence[f];
+        const TurbulenceSettings& turbulence = mSetup.turbulence[f];
         mTurbulence.emplace_back(turbulence);
         for (std::size_t i = 0; i < mObjects.size(); ++i)
             if (turbulence.acts(mSetup.objects[i].name)) mObjectFields[i].turbulence.push_back(f);
@@ -139,7 +139,7 @@ Simulator::Simulator(const SimulationSetup& setup, const Preparing& preparing) :
     // objects holding their first poses (poseAt interpolates between two
     // equal states). The particles rest where it leaves them, their peak
     // heights there too (condensation counts from the first frame), sorted again.
-    if (const int frames = mSetup.options.preroll; frames > 0 && mParticles.size() > 0) {
+    if (const int frames = mSetup.solver.preroll; frames > 0 && mParticles.size() > 0) {
         report("clouds: preroll of " + std::to_string(frames) + " frames");
         const double first = mSetup.frameTime(mFrame);
         for (int frame = -frames; frame < 0; ++frame)

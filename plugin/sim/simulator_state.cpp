@@ -121,7 +121,7 @@ void Simulator::restoreState(const std::string& bytes)
     in.getVector(particles.cloud);
     const std::size_t n = particles.size();
     if (!in.atEnd() || particles.velocity.size() != n || particles.rest.size() != n ||
-        particles.rest2.size() != (mSetup.options.restPeriod == 0 ? 0 : n) || particles.peak.size() != n ||
+        particles.rest2.size() != (mSetup.solver.restPeriod == 0 ? 0 : n) || particles.peak.size() != n ||
         particles.id.size() != n || particles.radius.size() != n || particles.cloud.size() != n)
         throw ValueError("the saved simulation state is inconsistent");
     for (const uint16_t c : particles.cloud)

@@ -16,14 +16,14 @@ float wrapToPeriod(double x) { return float(x - 256.0 * std::floor(x / 256.0)); 
 
 } // namespace
 
-bool TurbulenceSpec::acts(const std::string& target) const
+bool TurbulenceSettings::acts(const std::string& target) const
 {
     return affects.empty() || std::find(affects.begin(), affects.end(), target) != affects.end();
 }
 
-void TurbulenceSpec::validate() const { checkFields(*this); }
+void TurbulenceSettings::validate() const { checkFields(*this); }
 
-Turbulence::Turbulence(const TurbulenceSpec& spec) : mSpec(spec), mNoise(spec.seed)
+Turbulence::Turbulence(const TurbulenceSettings& spec) : mSpec(spec), mNoise(spec.seed)
 {
     // Octaves of independent noise add their mean squares.
     double meanSquare = 0.0, amplitude = 1.0;
@@ -42,7 +42,7 @@ Vec3d Turbulence::acceleration(const Vec3d& p, double t) const
     // instead of the three of the curl of three potentials: a third less work.
     static constexpr float kSecondOffset[3] = {101.7f, 53.3f, 27.9f};
     const int samples = 2 * mSpec.octaves;
-    std::array<Vec3f, 2 * TurbulenceSpec::kMaxOctaves> points;
+    std::array<Vec3f, 2 * TurbulenceSettings::kMaxOctaves> points;
     double frequency = 1.0 / mSpec.size;
     const double slide = mSpec.evolution * t;
     for (int octave = 0; octave < mSpec.octaves; ++octave, frequency *= 2.0) {
@@ -53,7 +53,7 @@ Vec3d Turbulence::acceleration(const Vec3d& p, double t) const
         points[2 * octave + 1] = q + Vec3f(kSecondOffset[0], kSecondOffset[1], kSecondOffset[2]);
     }
     for (int unused = samples; unused % 4 != 0; ++unused) points[unused] = points[0]; // the last run's idle lanes
-    std::array<Vec3f, 2 * TurbulenceSpec::kMaxOctaves> gradients;
+    std::array<Vec3f, 2 * TurbulenceSettings::kMaxOctaves> gradients;
     for (int first = 0; first < samples; first += 4) {
         const std::array<NoiseSample, 4> lanes =
             mNoise.sample({points[first], points[first + 1], points[first + 2], points[first + 3]});

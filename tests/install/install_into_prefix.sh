@@ -12,7 +12,7 @@ fail() { echo "install test: $*" >&2; exit 1; }
 rm -rf "$prefix"
 cmake --install "$build" --prefix "$prefix" >/dev/null
 for file in bin/vfield "$libdir/libvfield.so.0" "$libdir/libvfield.so" include/vfield/vfield.h \
-    include/vfield/scene/session.h "$libdir/cmake/vfield/vfieldConfig.cmake" \
+    include/vfield/host/session.h "$libdir/cmake/vfield/vfieldConfig.cmake" \
     "$libdir/cmake/vfield/vfieldConfigVersion.cmake" "$libdir/cmake/vfield/vfieldTargets.cmake" \
     "$libdir/pkgconfig/vfield.pc" libexec/vfield/make-sheet share/vfield/vfield_blender.zip; do
     [[ -e $prefix/$file ]] || fail "$prefix/$file was not installed"

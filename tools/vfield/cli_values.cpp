@@ -59,8 +59,8 @@ void addMaxMemoryOption(CLI::App& command, std::optional<double>& bytes)
                     throw CLI::ValidationError("--max-memory", "expected a size such as 16G or 512M, got '" + text + "'");
                 bytes = value * std::pow(1024.0, double(power));
             },
-            "Refuse a scene or mesh estimated to need more memory than this, before loading it (scenes/README.md) "
-            "[default: the memory available]")
+            "Refuse a scene or mesh estimated to need more memory than this, before loading it "
+            "(docs/simulation.md, \"Memory\") [default: the memory available]")
         ->type_name("SIZE");
 }
 

@@ -4,8 +4,8 @@
 #include "scene_cli_options.h"
 
 #include <vfield/core/error.h>
+#include <vfield/folder/sim_folder.h>
 #include <vfield/scene/scene.h>
-#include <vfield/scene/sim_folder.h>
 
 namespace vfield::cli {
 
@@ -30,7 +30,7 @@ Runner registerExportMesh(CLI::App& app, const GlobalOptions& global)
 
     return [o, command, &global] {
         const Scene scene = loadScene(o->scene);
-        const ObjectSpec* spec = scene.findObject(o->object);
+        const ObjectSettings* spec = scene.findObject(o->object);
         if (!spec) throw FileError(o->scene.path, "no object named \"" + o->object + "\"");
         TriangleMesh mesh = makeMesh(spec->mesh);
         if (!spec->isDynamic) {

@@ -7,8 +7,8 @@
 
 #include <vfield/core/error.h>
 #include <vfield/core/folder_lock.h>
-#include <vfield/scene/host_scene.h>
-#include <vfield/scene/sim_folder.h>
+#include <vfield/folder/sim_folder.h>
+#include <vfield/host/host_scene.h>
 
 #include <filesystem>
 

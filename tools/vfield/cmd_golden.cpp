@@ -182,7 +182,7 @@ Runner registerRecord(CLI::App& golden, const GlobalOptions& global)
         c.folder = folder.string();
         c.why = o->why;
         c.scene = fs::relative(fs::absolute(o->scene.path), folder).string();
-        c.compare = o->thresholds;
+        c.compare = GoldenThresholds::from(o->thresholds);
         // The same overrides for both commands; the image's size and samples
         // are written out in full below, so that a changed default cannot change the case.
         std::vector<std::string> overrides;

@@ -1,6 +1,7 @@
-// vfield help keys: the documentation of every scene key, derived from the
-// options' declarations; --update and --check keep documents' tables
-// (scenes/README.md) equal to it.
+// vfield help: reference documentation derived from the code. `keys`: every
+// scene key, from the options' declarations; `commands`: every subcommand's
+// help text, from the parser's own definitions. --update and --check keep
+// documents' tables (docs/scenes.md, docs/command.md) equal to them.
 
 #include "command.h"
 
@@ -23,12 +24,45 @@ std::string joined(const std::vector<std::string>& titles)
     return text;
 }
 
+/// The Markdown reference of every subcommand, in the order they were
+/// registered: each one's help as `vfield NAME --help` prints it, then its
+/// own subcommands'.
+std::string commandReference(const CLI::App& app)
+{
+    std::string text;
+    const auto add = [&text](const CLI::App& command, const std::string& parents) {
+        const std::string name = parents + " " + command.get_name();
+        text += "### `" + name + "`\n\n```text\n" +
+                command.get_formatter()->make_help(&command, name, CLI::AppFormatMode::Normal) + "```\n\n";
+    };
+    for (const CLI::App* command : app.get_subcommands([](const CLI::App*) { return true; })) {
+        add(*command, "vfield");
+        for (const CLI::App* sub : command->get_subcommands([](const CLI::App*) { return true; }))
+            add(*sub, "vfield " + command->get_name());
+    }
+    return text;
+}
+
+constexpr const char* kCommandsBegin = "<!-- commands -->\n";
+constexpr const char* kCommandsEnd = "<!-- end commands -->";
+
+/// The document with the text between its commands markers replaced by reference.
+std::string withCommandReference(const std::string& document, const std::string& reference, const std::string& path)
+{
+    const std::size_t begin = document.find(kCommandsBegin), end = document.rfind(kCommandsEnd);
+    if (begin == std::string::npos || end == std::string::npos || end < begin)
+        throw FileError(path, "has no lines <!-- commands --> and <!-- end commands --> to hold the reference");
+    const std::size_t from = begin + std::string(kCommandsBegin).size();
+    return document.substr(0, from) + "\n" + reference + document.substr(end);
+}
+
 } // namespace
 
 Runner registerHelp(CLI::App& app, const GlobalOptions& global)
 {
     struct Options {
         std::vector<std::string> documents;
+        std::string commandsDocument;
         bool check = false, update = false, complete = false;
     };
     auto o = std::make_shared<Options>();
@@ -42,7 +76,30 @@ Runner registerHelp(CLI::App& app, const GlobalOptions& global)
     keys->add_flag("--update", o->update, "Rewrite a document's tables from the code");
     keys->add_flag("--complete", o->complete, "With --check: every table must be in the documents");
 
-    return [o, &global] {
+    CLI::App* commands = help->add_subcommand(
+        "commands", "Every subcommand's help as Markdown, or a document's reference of them checked or updated");
+    commands->add_option("document", o->commandsDocument,
+                         "Markdown file whose command reference, between its commands markers, to check or update");
+    commands->add_flag("--check", o->check, "Exit 1 when the document's reference differs from the commands' help");
+    commands->add_flag("--update", o->update, "Rewrite the document's reference from the commands' help");
+
+    return [o, &global, &app, commands] {
+        if (commands->parsed()) {
+            const std::string reference = commandReference(app);
+            if (o->commandsDocument.empty()) {
+                std::fputs(reference.c_str(), stdout);
+                return;
+            }
+            if (o->check == o->update) throw CommandExit{2, "with a document, give --check or --update"};
+            const std::string& path = o->commandsDocument;
+            const std::string current = readFileBytes(path), updated = withCommandReference(current, reference, path);
+            if (updated == current) return;
+            if (o->check)
+                throw CommandExit{1, path + ": the command reference is stale (vfield help commands --update " + path + ")"};
+            writeTextAtomically(path, updated);
+            log(global, path + ": updated the command reference");
+            return;
+        }
         const std::vector<FieldTable> tables = sceneKeyTables();
         if (o->documents.empty()) {
             for (const FieldTable& table : tables)

@@ -25,9 +25,9 @@ Runner registerMakeMesh(CLI::App& app, const GlobalOptions& global)
 {
     struct Options {
         std::string output;
-        TerrainOptions terrain;
-        SphereOptions sphere;
-        BoxOptions box;
+        TerrainSettings terrain;
+        SphereSettings sphere;
+        BoxSettings box;
     };
     auto o = std::make_shared<Options>();
     CLI::App* command = app.add_subcommand("make-mesh", "Write a procedural mesh (closed, y up) to an OBJ file");
@@ -35,7 +35,7 @@ Runner registerMakeMesh(CLI::App& app, const GlobalOptions& global)
     command->add_option("-o,--output", o->output, "Output .obj file")->required();
 
     CLI::App* terrain = command->add_subcommand("terrain", "Fractal heightfield closed into a solid");
-    TerrainOptions& t = o->terrain;
+    TerrainSettings& t = o->terrain;
     terrain->add_option("--seed", t.seed, "Noise seed")->capture_default_str();
     terrain->add_option("--size-x", t.sizeX, "Extent along x, world units")->capture_default_str();
     terrain->add_option("--size-z", t.sizeZ, "Extent along z, world units")->capture_default_str();

@@ -1,10 +1,10 @@
 // vfield metrics SIM...: what a simulation folder shows about its guarantees,
 // its motion and its cost (run_metrics.h), one run per folder; --markdown
-// prints one table row per run, as tools/compare-methods collects them.
+// prints one table row per run, as tools/measure/compare-methods collects them.
 
 #include "command.h"
 
-#include <vfield/scene/run_metrics.h>
+#include <vfield/run/run_metrics.h>
 
 #include <cstdio>
 #include <string>

@@ -6,12 +6,12 @@
 #include "scene_cli_options.h"
 
 #include <vfield/core/error.h>
-#include <vfield/scene/host_scene.h>
-#include <vfield/scene/render_backends.h>
-#include <vfield/scene/render_run.h>
-#include <vfield/scene/scene_run.h>
-#include <vfield/scene/sim_folder.h>
-#include <vfield/scene/simulation_run.h>
+#include <vfield/folder/sim_folder.h>
+#include <vfield/host/host_scene.h>
+#include <vfield/run/render_backends.h>
+#include <vfield/run/render_run.h>
+#include <vfield/run/scene_run.h>
+#include <vfield/run/simulation_run.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -25,8 +25,8 @@ namespace {
 struct RenderCliOptions {
     std::optional<FrameRange> frames;
     std::string formats = "png", backend = "embree";
-    int threads = 0, povrayThreads = 0;
-    bool force = false, keepScene = false, wait = false;
+    int threads = 0;
+    bool force = false, wait = false;
 };
 
 void addRenderOptions(CLI::App& command, RenderCliOptions& o, SceneCliOptions& scene)
@@ -38,12 +38,8 @@ void addRenderOptions(CLI::App& command, RenderCliOptions& o, SceneCliOptions& s
                     "side-by-side images)")
         ->check(CLI::IsMember(renderBackendNames()))
         ->capture_default_str();
-    command.add_flag("--keep-scene", o.keepScene, "Keep POV-Ray's .pov, .inc and .df3 files in OUT/povray-scene/");
-    command
-        .add_option("--povray-threads", o.povrayThreads,
-                    "POV-Ray's render threads; 1 makes its media noise reproducible [default: as --threads]")
-        ->check(CLI::PositiveNumber);
     addRenderShorthands(command, scene);
+    addPovrayShorthands(command, scene);
     command.add_option("--format", o.formats, "Image files: png (8-bit sRGB), exr (half-float, with depth) or both")
         ->type_name("png|exr|png,exr")
         ->check(CLI::IsMember({"png", "exr", "png,exr", "exr,png"}).description(""))
@@ -53,7 +49,7 @@ void addRenderOptions(CLI::App& command, RenderCliOptions& o, SceneCliOptions& s
     addWaitOption(command, o.wait);
 }
 
-RenderRunOptions toRunOptions(const RenderCliOptions& o, const CLI::App& command)
+RenderRunOptions toRunOptions(const RenderCliOptions& o)
 {
     RenderRunOptions options;
     if (o.frames) {
@@ -64,9 +60,7 @@ RenderRunOptions toRunOptions(const RenderCliOptions& o, const CLI::App& command
     std::istringstream list(o.formats);
     for (std::string format; std::getline(list, format, ',');) options.formats.push_back(format);
     options.force = o.force;
-    options.keepScene = o.keepScene;
     options.backend = o.backend;
-    if (command.count("--povray-threads") > 0) options.povrayThreads = o.povrayThreads;
     return options;
 }
 
@@ -134,7 +128,7 @@ Runner registerRender(CLI::App& app, const GlobalOptions& global)
 
     return [o, command, &global] {
         const auto threads = limitThreads(o->render.threads);
-        renderWithProgress(loadScene(o->scene), o->sim, o->output, toRunOptions(o->render, *command), o->render.wait, global);
+        renderWithProgress(loadScene(o->scene), o->sim, o->output, toRunOptions(o->render), o->render.wait, global);
     };
 }
 
@@ -158,7 +152,7 @@ Runner registerRun(CLI::App& app, const GlobalOptions& global)
     return [o, command, &global] {
         const auto threads = limitThreads(o->render.threads);
         const Scene scene = loadScene(o->scene);
-        RenderRunOptions render = toRunOptions(o->render, *command);
+        RenderRunOptions render = toRunOptions(o->render);
         logWarningsAndWaitForFolder(render, o->render.wait, global, o->output);
         SimulateOptions simulate;
         simulate.maxMemoryBytes = o->maxMemory;

@@ -7,10 +7,10 @@
 #include "progress.h"
 #include "scene_cli_options.h"
 
-#include <vfield/scene/host_scene.h>
-#include <vfield/scene/shard_merge.h>
-#include <vfield/scene/sim_folder.h>
-#include <vfield/scene/simulation_run.h>
+#include <vfield/folder/sim_folder.h>
+#include <vfield/host/host_scene.h>
+#include <vfield/run/shard_merge.h>
+#include <vfield/run/simulation_run.h>
 
 #include <cstdio>
 #include <memory>

@@ -4,7 +4,7 @@
 
 #include "command.h"
 
-#include <vfield/scene/sim_folder.h>
+#include <vfield/folder/sim_folder.h>
 
 #include <tbb/parallel_for.h>
 

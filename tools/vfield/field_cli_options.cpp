@@ -25,22 +25,22 @@ void addFieldOptions(CLI::App& command, FieldCliOptions& o)
         if (!o.scenePath.empty() && o.objectName.empty()) throw CLI::ValidationError("--object", "--scene needs --object NAME");
         if (o.scenePath.empty()) { // a bad flag is a usage error; a scene's values are checked with the scene
             try {
-                o.octreeFlags.read<OctreeFieldOptions>();
-                o.meshFlags.read<MeshSource>({{"file", o.meshPath}});
+                o.octreeFlags.read<OctreeFieldSettings>();
+                o.meshFlags.read<MeshSettings>({{"file", o.meshPath}});
             } catch (const ValueError& e) {
                 throw CLI::ValidationError(e.what());
             }
         }
     });
-    o.octreeFlags.addTo<OctreeFieldOptions>(command);
-    o.meshFlags.addTo<MeshSource>(command);
+    o.octreeFlags.addTo<OctreeFieldSettings>(command);
+    o.meshFlags.addTo<MeshSettings>(command);
     addMaxMemoryOption(command, o.maxMemory);
 }
 
 namespace {
 
 /// The scene's object, with the flags given applied to its keys before the scene is read.
-ObjectSpec sceneObject(const FieldCliOptions& o)
+ObjectSettings sceneObject(const FieldCliOptions& o)
 {
     const Scene plain = vfield::loadScene(o.scenePath);
     std::size_t index = plain.simulation.objects.size();
@@ -55,7 +55,7 @@ ObjectSpec sceneObject(const FieldCliOptions& o)
     std::vector<SceneOverride> overrides;
     for (const auto& [key, value] : o.octreeFlags.values()) overrides.push_back({object + "/repulsion/" + key, value});
     for (const auto& [key, value] : o.meshFlags.values()) overrides.push_back({object + "/mesh/" + key, value});
-    ObjectSpec spec = vfield::loadScene(o.scenePath, overrides).simulation.objects[index];
+    ObjectSettings spec = vfield::loadScene(o.scenePath, overrides).simulation.objects[index];
     if (!spec.repulsion) throw FileError(o.scenePath, object + "/repulsion: \"" + o.objectName + "\" has no repulsive field");
     if (spec.repulsion->method != RepulsionMethod::Octree)
         throw FileError(o.scenePath, object + "/repulsion/method: \"" + o.objectName + "\"'s field is made by the " +
@@ -67,17 +67,17 @@ ObjectSpec sceneObject(const FieldCliOptions& o)
 
 MeshAndField loadMeshAndBuildField(const FieldCliOptions& o, const GlobalOptions& global)
 {
-    MeshSource source;
-    OctreeFieldOptions octree;
+    MeshSettings source;
+    OctreeFieldSettings octree;
     std::string meshName = o.meshPath;
     if (!o.scenePath.empty()) {
-        const ObjectSpec object = sceneObject(o);
+        const ObjectSettings object = sceneObject(o);
         source = object.mesh;
         octree = object.repulsion->field;
         meshName = o.scenePath + " (" + o.objectName + ")";
     } else {
-        source = o.meshFlags.read<MeshSource>({{"file", o.meshPath}});
-        octree = o.octreeFlags.read<OctreeFieldOptions>();
+        source = o.meshFlags.read<MeshSettings>({{"file", o.meshPath}});
+        octree = o.octreeFlags.read<OctreeFieldSettings>();
         // A mesh too large for the machine is refused before it is read.
         if (const std::optional<double> limit = o.maxMemory ? o.maxMemory : availableMemory()) {
             try {

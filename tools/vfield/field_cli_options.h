@@ -17,8 +17,8 @@ namespace vfield::cli {
 struct FieldCliOptions {
     std::string meshPath;
     std::string scenePath, objectName;
-    DeclaredFlags octreeFlags;       ///< OctreeFieldOptions' keys as flags (--margin, --max-level, ...)
-    DeclaredFlags meshFlags;         ///< MeshSource's (--tessellate)
+    DeclaredFlags octreeFlags;       ///< OctreeFieldSettings' keys as flags (--margin, --max-level, ...)
+    DeclaredFlags meshFlags;         ///< MeshSettings's (--tessellate)
     std::optional<double> maxMemory; ///< bytes (--max-memory)
 };
 

@@ -4,7 +4,7 @@
 
 #include "command.h"
 
-#include <vfield/scene/versions.h>
+#include <vfield/host/versions.h>
 
 #include <tbb/global_control.h>
 

@@ -4,8 +4,8 @@
 // stay readable. Silent with --quiet.
 
 #include <vfield/core/stopwatch.h>
-#include <vfield/scene/render_run.h>
-#include <vfield/scene/simulation_run.h>
+#include <vfield/run/render_run.h>
+#include <vfield/run/simulation_run.h>
 
 #include <mutex>
 #include <optional>
@@ -46,8 +46,9 @@ std::string renderingFrame(int frame, double fraction);
 /// scene_run.h), told from both stages' threads: the frames rendered, what
 /// each stage is at, and the ETA: the later of the two stages' ends, each at
 /// its own pace (the simulation's from its first frame, the render's from
-/// its first report). Averaging the two shares told a run whose simulation
-/// had finished at 1:40 to go with 10 minutes of frames left to render.
+/// its first report). Averaging the two shares would tell a run whose
+/// simulation has finished that little is left while most of its frames are
+/// still to render.
 class RunProgress {
 public:
     /// frames: how many the render is to finish.

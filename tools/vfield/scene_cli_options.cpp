@@ -45,7 +45,7 @@ std::vector<std::string> SceneCliOptions::allOverrides() const
 
 void addSceneOptions(CLI::App& command, SceneCliOptions& options, bool sceneRequired)
 {
-    command.add_option("scene", options.path, "Scene file (JSON, see scenes/README.md)")->required(sceneRequired);
+    command.add_option("scene", options.path, "Scene file (JSON, see docs/scenes.md)")->required(sceneRequired);
     command
         .add_option("--set", options.overrides,
                     "Change a scene value before reading it: JSON pointer=JSON value, e.g. --set /clouds/0/count=5000 "
@@ -94,6 +94,21 @@ void addRenderShorthands(CLI::App& command, SceneCliOptions& options)
         command, options, "--integrator", "/render/integrator",
         "vfield's renderer: fast (ray march, light grids, multiple scattering by octaves or by paths) or "
         "reference (an unbiased path tracer, slow and noisy: give it many --spp)");
+}
+
+void addPovrayShorthands(CLI::App& command, SceneCliOptions& options)
+{
+    command.add_flag_callback(
+        "--keep-scene", [&options] { options.shorthands.push_back("/povray/keepScene=true"); },
+        "Keep POV-Ray's .pov, .inc and .df3 files in OUT/povray-scene/ (--set /povray/keepScene=true)");
+    command
+        .add_option_function<int>(
+            "--povray-threads",
+            [&options](int threads) { options.shorthands.push_back("/povray/threads=" + std::to_string(threads)); },
+            "POV-Ray's render threads; 1 makes its media noise reproducible (--set /povray/threads=N) [default: as "
+            "--threads]")
+        ->check(CLI::PositiveNumber)
+        ->type_name("N");
 }
 
 Scene loadScene(const SceneCliOptions& options)

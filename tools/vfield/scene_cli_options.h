@@ -35,6 +35,10 @@ void addRepulsionShorthands(CLI::App& command, SceneCliOptions& options);
 /// /render/integrator.
 void addRenderShorthands(CLI::App& command, SceneCliOptions& options);
 
+/// --keep-scene and --povray-threads N, the POV-Ray back-end's own settings:
+/// /povray/keepScene and /povray/threads.
+void addPovrayShorthands(CLI::App& command, SceneCliOptions& options);
+
 /// Loads the scene with its overrides applied.
 Scene loadScene(const SceneCliOptions& options);
 

@@ -4,7 +4,7 @@ camera and sun, or import a simulation folder made before."""
 bl_info = {
     "name": "vfield",
     "author": "vfield maintainers",
-    "version": (1, 0, 0),
+    "version": (0, 0, 0),  # vfield's, set by tools/make-blender-addon from CMakeLists.txt
     "blender": (3, 4, 0),
     "location": "View3D > Sidebar > vfield; File > Import > vfield simulation",
     "description": "Collision-free clouds and objects through vector fields: simulate with vfield, import the result",

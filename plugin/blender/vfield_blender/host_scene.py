@@ -1,5 +1,5 @@
 """SIM/host/host.json, the scene as vfield describes it to hosts (written by
-`vfield simulate` and `vfield export-scene`; plugin/include/vfield/scene/host_scene.h
+`vfield simulate` and `vfield export-scene`; plugin/include/vfield/host/host_scene.h
 documents every key). Plain Python: nothing here needs Blender."""
 
 import json

@@ -25,10 +25,10 @@ const Vec3d kUp(0.0, 1.0, 0.0); ///< towards the sky, as CloudLighting's sky gri
 /// Where the density's trilinear reads can be non-zero: its voxels above
 /// zero, dilated by one across faces, edges and corners, so that a read whose
 /// cell's first corner is outside reads eight zeros. OpenVDB's intersector
-/// dilates across faces only, and skipped the leaves diagonally behind a
+/// dilates across faces only, and would skip the leaves diagonally behind a
 /// leaf's corner, whose cells read that corner. The ray march also tests it
-/// before each read: in the stirred bank's frames four steps in five fall on
-/// empty voxels of the leaves that hold the cloud's wisps.
+/// before each read: where a cloud has wisps, most steps fall on empty
+/// voxels of the leaves that hold them.
 struct CloudVolume::EmptySpaceSkipper {
     using Intersector = openvdb::tools::VolumeRayIntersector<openvdb::MaskGrid>;
     explicit EmptySpaceSkipper(openvdb::MaskGrid::Ptr occupancy)
@@ -55,7 +55,7 @@ struct CloudVolume::EmptySpaceSkipper {
 CloudVolume::CloudVolume(const CloudLighting& lighting, const MediumSettings& medium, const IntegratorSettings& integrator)
     : mLighting(lighting), mExtinction(medium.extinction), mAlbedo(medium.albedo), mStep(integrator.volumeStep)
 {
-    const MultipleScattering& ms = integrator.multipleScattering;
+    const MultipleScatteringSettings& ms = integrator.multipleScattering;
     for (int i = 0; i < ms.octaves; ++i) {
         Octave octave{std::pow(ms.scatteringFalloff, i), std::pow(ms.extinctionFalloff, i), std::pow(ms.skyScatteringFalloff, i),
                       medium};
@@ -72,8 +72,8 @@ CloudVolume::CloudVolume(const CloudLighting& lighting, const MediumSettings& me
     if (lighting.empty()) return;
     mNearStep = lighting.density().voxelSize()[0];
     mSunDepth = OpticalDepthMap(lighting.densityPtr(), lighting.toSun());
-    // The sky's map serves the octaves alone: with paths, the sky's light is
-    // what the paths that escape to it bring (a tenth of a frame's time).
+    // The sky's map serves the octaves alone, and takes time to make: with
+    // paths, the sky's light is what the paths that escape to it bring.
     if (ms.method == MultipleScatteringMethod::Octaves) mSkyDepth = OpticalDepthMap(lighting.densityPtr(), kUp);
 }
 
@@ -85,8 +85,8 @@ double CloudVolume::surfaceSunTransmittance(const Vec3d& p) const
     // octave that sees b^i of the extinction scatters b^i as much towards the
     // ground): 1 without a cloud and never more. Under spheres of cloud of
     // optical radius 0.9 to 9 this is the reference's shadow within 8%; with
-    // weights a^i, 15-39% too bright; the octaves' sum that lights the cloud
-    // from inside, T + a^i (T^(b^i) - T), gave 1.3 x the sun's light under a thin cloud.
+    // weights a^i it is too bright, and the octaves' sum that lights the cloud
+    // from inside, T + a^i (T^(b^i) - T), exceeds the sun's light under a thin cloud.
     double sum = 0.0, weights = 0.0;
     for (const Octave& octave : mOctaves) {
         const double weight = octave.scattering * octave.extinction;
@@ -111,10 +111,10 @@ float CloudVolume::transmittance(double depth) const
 
 // The first voxels of p's own way towards the light are marched: the map's
 // columns, a voxel apart, blur a dense lump's lit edge across the rays, so a
-// sample just inside a lump took depth from beside it. Read from p on, a
-// sphere of dense lumps a voxel or two across was 0.97 of the reference lit
-// from behind the camera; with four voxels marched, 1.01
-// (tests/reference_integrator_test.cpp). Farther on, the blur draws depth
+// sample just inside a lump would take depth from beside it. Read from p on,
+// a sphere of dense lumps a voxel or two across comes out darker than the
+// reference lit from behind the camera; with four voxels marched, it matches
+// (tests/render/reference_integrator_test.cpp). Farther on, the blur draws depth
 // from lumps all around, and evens out.
 double CloudVolume::depthTowards(LightReaders& light, OpticalDepthMap::Reader& beyond, const Vec3d& p, const Vec3d& towards) const
 {

@@ -2,6 +2,7 @@
 
 #include <vfield/render/embree/camera_samples.h>
 #include <vfield/render/embree/path_tracer.h>
+#include <vfield/render/embree/scattered_light.h>
 
 #include <algorithm>
 #include <array>

@@ -2,6 +2,7 @@
 
 #include <vfield/core/atomic_file.h>
 #include <vfield/core/error.h>
+#include <vfield/core/field_visitors.h>
 #include <vfield/core/frame_file.h>
 #include <vfield/render/povray/povray_runner.h>
 
@@ -18,10 +19,14 @@ constexpr const char* kMeshInclude = "meshes.inc";
 
 } // namespace
 
+void PovraySettings::validate() const { checkFields(*this); }
+
 PovrayBackend::PovrayBackend(std::vector<PovrayMesh> meshes, double terrainLow, double terrainHigh,
-                             const RenderSettings& settings, const PovrayBackendOptions& options)
-    : mMeshes(std::move(meshes)), mTerrainLow(terrainLow), mTerrainHigh(terrainHigh), mSettings(settings), mOptions(options)
+                             const RenderSettings& settings, const PovraySettings& povray, std::string workFolder, int threads)
+    : mMeshes(std::move(meshes)), mTerrainLow(terrainLow), mTerrainHigh(terrainHigh), mSettings(settings), mPovray(povray),
+      mWorkFolder(std::move(workFolder)), mKeepScene(povray.keepScene)
 {
+    if (mPovray.threads == 0) mPovray.threads = threads;
     if (settings.image.transparentSky)
         throw ValueError("a transparent sky is for EXR frames of the Embree back-end; the POV-Ray back-end draws the sky");
     requirePovray();
@@ -31,10 +36,10 @@ PovrayBackend::PovrayBackend(std::vector<PovrayMesh> meshes, double terrainLow, 
 
 PovrayBackend::~PovrayBackend()
 {
-    if (!mPrepared || mOptions.keepScene) return;
+    if (!mPrepared || mKeepScene) return;
     std::error_code ignored; // a folder still holding files (a failed frame's) stays
-    fs::remove(fs::path(mOptions.workFolder) / kMeshInclude, ignored);
-    fs::remove(mOptions.workFolder, ignored);
+    fs::remove(fs::path(mWorkFolder) / kMeshInclude, ignored);
+    fs::remove(mWorkFolder, ignored);
 }
 
 std::vector<std::string> PovrayBackend::cannotDraw(const RenderSettings& s) const
@@ -59,8 +64,7 @@ std::vector<std::string> PovrayBackend::frameFiles(const std::string& out, int f
 
 void PovrayBackend::prepare()
 {
-    writeTextAtomically((fs::path(mOptions.workFolder) / kMeshInclude).string(),
-                        povrayMeshesText(mMeshes, mTerrainLow, mTerrainHigh));
+    writeTextAtomically((fs::path(mWorkFolder) / kMeshInclude).string(), povrayMeshesText(mMeshes, mTerrainLow, mTerrainHigh));
     mPrepared = true;
 }
 
@@ -70,6 +74,7 @@ void PovrayBackend::render(const FrameView& view, const std::string& out)
     const CloudLighting& cloud = *view.cloud;
     PovrayFrame pov;
     pov.settings = &mSettings;
+    pov.quality = mPovray.quality;
     pov.camera = view.camera;
     pov.frame = view.frame;
     pov.meshInclude = kMeshInclude;
@@ -77,7 +82,7 @@ void PovrayBackend::render(const FrameView& view, const std::string& out)
     pov.dynamicPoses = view.poses;
     const std::string df3 = frameFileName("density", view.frame, "df3"), skyLitDf3 = frameFileName("sky_lit", view.frame, "df3"),
                       scene = frameFileName("frame", view.frame, "pov"), rendered = frameFileName("render", view.frame, "png");
-    const fs::path folder(mOptions.workFolder);
+    const fs::path folder(mWorkFolder);
     if (!cloud.density().empty()) {
         PovrayCloud medium;
         medium.df3File = df3;
@@ -88,16 +93,15 @@ void PovrayBackend::render(const FrameView& view, const std::string& out)
     }
     writeTextAtomically((folder / scene).string(), povrayFrameText(pov));
     try {
-        runPovray(mOptions.workFolder, scene, rendered, mSettings.image, mSettings.povrayQuality, mOptions.threads,
-                  view.progress);
+        runPovray(mWorkFolder, scene, rendered, mSettings.image, mPovray.quality, mPovray.threads, view.progress);
     } catch (...) {
-        mOptions.keepScene = true; // a failed frame's scene files and log stay for inspection
+        mKeepScene = true; // a failed frame's scene files and log stay for inspection
         throw;
     }
     const std::string image = frameFiles(out, view.frame).front();
     fs::create_directories(fs::path(image).parent_path());
     fs::rename(folder / rendered, image);
-    if (!mOptions.keepScene)
+    if (!mKeepScene)
         for (const std::string& file : {df3, skyLitDf3, scene, rendered + ".log"}) fs::remove(folder / file);
     mSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

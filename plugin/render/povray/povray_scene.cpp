@@ -151,7 +151,7 @@ std::string povrayFrameText(const PovrayFrame& f)
         const BBoxd& box = cloud.placement.worldBounds;
         const Vec3d size = box.extents();
         const int finalSamples = std::clamp(int(std::ceil(size.length() / s.integrator.volumeStep)), 8, 400);
-        const int samples = s.povrayQuality == PovrayQuality::Preview ? std::max(8, finalSamples / 4) : finalSamples;
+        const int samples = f.quality == PovrayQuality::Preview ? std::max(8, finalSamples / 4) : finalSamples;
         out << "\nbox { <0, 0, 0>, <1, 1, 1>\n  hollow\n  texture { pigment { rgbt 1 } }\n  interior {\n    media {\n"
             << "      method 3 intervals 1 samples " << samples << "\n"
             << "      absorption rgb " << num(sigmaT - sigmaS) << "\n"

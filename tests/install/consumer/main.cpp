@@ -4,8 +4,8 @@
 // find_package(vfield) (consumer/CMakeLists.txt) and through pkg-config.
 
 #include <vfield/field/octree_field.h>
+#include <vfield/host/versions.h>
 #include <vfield/mesh/procedural.h>
-#include <vfield/scene/versions.h>
 
 #include <cmath>
 #include <cstdio>

@@ -16,7 +16,7 @@
 /// pbrt's parameter dictionaries (field_visitors.h): reading a scene file's
 /// object, range checks, content hashes (the simulation's inputs, the render
 /// stamp), JSON export for hosts, command-line flags and the documentation
-/// tables of scenes/README.md (`vfield help keys`). A field added to a
+/// tables of docs/scenes.md (`vfield help keys`). A field added to a
 /// declaration reaches all of them; a field left out reaches none, and the
 /// tests that walk the declarations see it.
 ///
@@ -205,7 +205,6 @@ public:
         mSelector = &member;
         mApplies = member == value;
         mSelect = [&member, value] { member = value; };
-        mSelectedValue = int(value);
         return *this;
     }
     template<typename Enum>
@@ -213,7 +212,6 @@ public:
     {
         mSelector = &member;
         mApplies = member == value;
-        mSelectedValue = int(value);
         return *this;
     }
 
@@ -235,7 +233,6 @@ public:
     const char* trueName() const { return mTrueName; }
     /// The member an alternative's key sets (null when it selects none).
     const void* selector() const { return mSelector; }
-    int selectedValue() const { return mSelectedValue; }
     void select() const
     {
         if (mSelect) mSelect();
@@ -253,7 +250,6 @@ private:
     const char *mFalseName = nullptr, *mTrueName = nullptr;
     const void* mSelector = nullptr;
     std::function<void()> mSelect;
-    int mSelectedValue = 0;
 };
 
 template<typename T>

@@ -23,9 +23,9 @@ inline Vec3d rotate(const Quatd& q, const Vec3d& v)
 }
 
 struct Transform {
-    Vec3d translation{0.0, 0.0, 0.0};   ///< world units
+    Vec3d translation{0.0, 0.0, 0.0};
     Quatd rotation = Quatd::identity(); ///< unit quaternion
-    double scale = 1.0;                 ///< uniform (1e-9..1e9)
+    double scale = 1.0;
 
     /// From Euler angles in degrees: about x, then y, then z.
     static Quatd rotationFromDegrees(const Vec3d& degrees);

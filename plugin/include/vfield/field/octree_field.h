@@ -68,17 +68,14 @@ constexpr const auto& enumNames(MagnitudeGrowth) { return kMagnitudeGrowthNames;
 /// level), before any surface boost.
 double magnitudeAtLevel(MagnitudeGrowth growth, double strength, double level);
 
-struct OctreeFieldOptions {
-    /// Dead space between the mesh's bounding box and the root cube on every
-    /// side, object-space units (0..1e12). Unset: 10% of the largest extent.
+struct OctreeFieldSettings {
     std::optional<double> margin;
-    int maxPerLeaf = 6;         ///< the paper's N: a node with more triangles is split (1..2^20)
-    int maxLevel = 8;           ///< deepest level; the root is level 1 (1..20)
-    double strength = 1.0;      ///< magnitude at level 1, and per level (Linear), acceleration units (0..1e12)
-    double surfaceBoost = 10.0; ///< magnitude factor in leaves that hold triangles (1..1e12)
-    /// Build from the triangles' reversed normals: the field pushes into the
-    /// mesh's other side (a closed mesh meant to hold things inside it, or an
-    /// open sheet wound the wrong way).
+    int maxPerLeaf = 6;
+    int maxLevel = 8;
+    double strength = 1.0;
+    double surfaceBoost = 10.0;
+    /// For a closed mesh meant to hold things inside it, or an open sheet
+    /// wound the wrong way: the field pushes into the mesh's other side.
     bool flipNormals = false;
     SplitRule splitRule = SplitRule::NormalCone;
     MagnitudeGrowth growth = MagnitudeGrowth::Linear;
@@ -139,7 +136,7 @@ public:
     /// Builds the field around the mesh's triangles of non-zero area, in
     /// parallel (TBB). Throws ValueError for invalid options or a mesh without
     /// such triangles.
-    static OctreeField build(const TriangleMesh& mesh, const OctreeFieldOptions& options = {});
+    static OctreeField build(const TriangleMesh& mesh, const OctreeFieldSettings& options = {});
 
     /// The force at p (object space). Thread-safe.
     FieldSample sample(const Vec3d& p) const;
@@ -157,9 +154,8 @@ public:
     double cellSize(int level) const;    ///< edge length of a node at level
     double finestCellSize() const { return cellSize(mDepth); }
     std::size_t leafCount() const { return mLeafCount; }
-    std::size_t nodeCount() const { return mNodes.size(); }
     std::size_t memoryBytes() const { return sizeof(*this) + mNodes.capacity() * sizeof(Node); }
-    const OctreeFieldOptions& options() const { return mOptions; }
+    const OctreeFieldSettings& settings() const { return mSettings; }
 
     /// The magnitude of a leaf at level, with or without surface triangles.
     double magnitude(int level, bool isSurface) const;
@@ -186,7 +182,7 @@ private:
     Vec3f forceOf(const Node& node) const;
     void collect(uint32_t node, const uint32_t cell[3], bool withInterior, std::vector<FieldLeaf>& out) const;
 
-    OctreeFieldOptions mOptions;
+    OctreeFieldSettings mSettings;
     Vec3d mCenter{0.0};
     double mSide = 0.0;
     double mCellSize[kMaxLevels + 2] = {};     ///< edge of a cell per level (index = level)

@@ -66,14 +66,12 @@ inline constexpr EnumName<FieldSampling> kFieldSamplingNames[] = {
     {FieldSampling::Nearest, "nearest"}, {FieldSampling::Trilinear, "trilinear"}, {FieldSampling::Dual, "dual"}};
 constexpr const auto& enumNames(FieldSampling) { return kFieldSamplingNames; }
 
-struct RepulsionOptions {
+struct RepulsionSettings {
     RepulsionMethod method = RepulsionMethod::Octree;
     /// margin, strength, growth, surfaceBoost and flipNormals apply to every method
     /// (potentialFlow: margin only, through the root's size); maxPerLeaf, maxLevel
     /// and splitRule shape the octree, and maxLevel sets the others' default voxel.
-    OctreeFieldOptions field;
-    /// distance and potentialFlow: voxel edge, object units (1e-9..1e12).
-    /// Unset: side / 2^(maxLevel - 1).
+    OctreeFieldSettings field;
     std::optional<double> voxelSize;
 
     /// Throws OptionError naming the first option out of range.
@@ -105,7 +103,7 @@ public:
     /// Throws ValueError for invalid options, a mesh without triangles of
     /// non-zero area, or a potential flow whose solve does not converge.
     /// sample() reads it as `sampling` says.
-    static std::shared_ptr<const RepulsionField> build(const TriangleMesh& mesh, const RepulsionOptions& options,
+    static std::shared_ptr<const RepulsionField> build(const TriangleMesh& mesh, const RepulsionSettings& options,
                                                        FieldSampling sampling = FieldSampling::Dual,
                                                        const Vec3d& wind = Vec3d(0.0), const Progress& progress = {});
     virtual ~RepulsionField() = default;

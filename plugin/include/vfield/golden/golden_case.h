@@ -28,35 +28,84 @@
 /// recorded one or, when its golden file is kept ("keepFile"), when every
 /// voxel is within "tolerance" of that file's. "compare" holds `vfield compare`'s idiff thresholds.
 
+#include <vfield/core/fields.h>
 #include <vfield/image/image_compare.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace vfield {
 
 struct GoldenGrid {
-    std::string file;       ///< relative to the outputs' folder, e.g. "sim/density.0120.vdb"
-    std::string checksum;   ///< vdbFileChecksum of the golden, as 16 hex digits
-    bool keepFile = false;  ///< the golden file is kept beside case.json, to compare voxels when checksums differ
-    double tolerance = 0.0; ///< largest voxel difference accepted against the kept golden file
+    std::string file; ///< e.g. "sim/density.0120.vdb"
+    std::string checksum;
+    bool keepFile = false; ///< to compare voxels when checksums differ
+    double tolerance = 0.0;
+
+    void validate() const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("file", self.file).required().doc("the grid file, relative to the outputs' folder"));
+        visit(field("checksum", self.checksum).doc("vdbFileChecksum of the golden, 16 hex digits"));
+        visit(field("keepFile", self.keepFile).doc("the golden file is kept beside case.json"));
+        visit(field("tolerance", self.tolerance).atLeast(0).doc("largest voxel difference accepted against the kept file"));
+    }
 };
 
 /// One time the goldens were remade on purpose.
 struct GoldenRegeneration {
     std::string date, reason;
-    std::vector<std::string> differences; ///< per output, how the new one differed from the old
+    std::vector<std::string> differences;
+
+    void validate() const {}
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("date", self.date).required().doc("when, YYYY-MM-DD"));
+        visit(field("reason", self.reason).required().doc("why the goldens changed"));
+        visit(field("differences", self.differences).doc("per output, how the new one differed from the old"));
+    }
+};
+
+/// How strictly a case's images are compared: `vfield compare`'s idiff
+/// thresholds, as case.json's "compare" holds them.
+struct GoldenThresholds {
+    double fail = 1e-6;
+    double failPercent = 0.0;
+    std::optional<double> hardFail; ///< none: no limit
+    double warn = 1e-6;
+    double warnPercent = 0.0;
+    double diffScale = 10.0;
+
+    void validate() const;
+    ImageCompareOptions imageCompareOptions() const;
+    static GoldenThresholds from(const ImageCompareOptions& options);
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("fail", self.fail).atLeast(0).doc("a pixel fails when a channel differs by more"));
+        visit(field("failPercent", self.failPercent).range(0, 100).doc("% of pixels allowed to fail"));
+        visit(field("hardFail", self.hardFail).atLeast(0).doc("fail when any channel differs by more"));
+        visit(field("warn", self.warn).atLeast(0).doc("a pixel warns when a channel differs by more"));
+        visit(field("warnPercent", self.warnPercent).range(0, 100).doc("% of pixels allowed to warn"));
+        visit(field("diffScale", self.diffScale).range(1e-9, 1e9).doc("difference images show |golden - new| times this"));
+    }
 };
 
 struct GoldenCase {
-    std::string folder; ///< where case.json is (absolute)
+    std::string folder; ///< where case.json is (absolute); not in the file
     std::string why;
-    std::string scene;     ///< relative to folder; empty when the commands read no scene
-    std::string sceneHash; ///< the scene's content hash when the goldens were made
+    std::string scene; ///< empty when the commands read no scene
+    std::string sceneHash;
     std::vector<std::vector<std::string>> commands;
     std::vector<std::string> images;
     std::vector<GoldenGrid> grids;
-    ImageCompareOptions compare; ///< thresholds; diffPath unused
+    GoldenThresholds compare;
     std::vector<GoldenRegeneration> regenerated;
 
     std::string caseFile() const { return folder + "/case.json"; }
@@ -66,6 +115,26 @@ struct GoldenCase {
     std::string goldenPath(const std::string& output) const;
     /// The commands with @SCENE@, @OUT@ and @CASE@ replaced.
     std::vector<std::vector<std::string>> commandsFor(const std::string& outDir) const;
+
+    /// Throws OptionError naming an empty command line.
+    void validate() const;
+
+    /// case.json's keys.
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("why", self.why).doc("what the case guards, and why its thresholds are what they are"));
+        visit(field("scene", self.scene).doc("the scene, relative to the case folder"));
+        visit(field("sceneHash", self.sceneHash).doc("the scene's content hash when the goldens were made"));
+        visit(field("commands", self.commands)
+                  .required()
+                  .doc("vfield command lines; @SCENE@, @OUT@ and @CASE@ stand for the scene, the outputs' folder and the "
+                       "case folder"));
+        visit(field("images", self.images).required().doc("images compared with their goldens, relative to @OUT@"));
+        visit(field("grids", self.grids).doc("grid files compared with their goldens"));
+        visit(field("compare", self.compare).required().doc("the images' idiff thresholds"));
+        visit(field("regenerated", self.regenerated).doc("each time the goldens were remade on purpose"));
+    }
 };
 
 /// Reads folder/case.json. Throws FileError, or ParseError at the JSON path.

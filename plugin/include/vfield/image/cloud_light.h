@@ -1,9 +1,9 @@
 #pragma once
 /// @file cloud_light.h
 /// A cloud's light in one render measured against another of the same frame:
-/// the fast integrator against the reference path tracer, as the README's
-/// "Rendering" tables measure it. The cloud's pixels are those the first
-/// render lights: brighter than the same frame rendered without the cloud
+/// the fast integrator against the reference path tracer, as the tables of
+/// docs/rendering.md ("Accuracy") measure it. The cloud's pixels are those
+/// the first render lights: brighter than the same frame rendered without the cloud
 /// (render.extinction = 0) by more than `threshold` in the mean of r, g and
 /// b. Over them, the two renders' mean radiances; over the blocks of `block`
 /// x `block` pixels (a grid from the image's corner) that lie wholly in the

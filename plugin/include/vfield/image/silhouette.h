@@ -50,10 +50,9 @@ SilhouetteMeasure measureSilhouette(const std::string& withCloud, const std::str
 /// options.threshold: with a transparent sky and nothing but cloud in view,
 /// the cloud's own opacity, 1 - e^-(optical depth along the pixel's ray), so
 /// the outline is the density's whatever the light (the pixels the cloud
-/// brightens also follow the edges of its shadowed parts: scenes/features/
-/// cumulus.json's frame 2 with billows measures 1.30 with its base drawn
-/// black, 1.25 with it lit grey, where its opacity over one half measures
-/// 1.06). Throws
+/// brightens also follow the edges of its shadowed parts, so that a cloud
+/// measures rougher with its base drawn black than lit grey, and either
+/// rougher than its opacity). Throws
 /// FileError naming an image that cannot be read, ValueError for one
 /// without alpha.
 SilhouetteMeasure measureOpacitySilhouette(const std::string& frame, const SilhouetteOptions& options = {});

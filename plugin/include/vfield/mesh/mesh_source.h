@@ -11,15 +11,15 @@
 
 namespace vfield {
 
-struct MeshSource {
+struct MeshSettings {
     enum class Kind { File, Terrain, Sphere, Box, Heightmap };
     Kind kind = Kind::Box;
-    std::string path; ///< Kind::File: the mesh file (resolved against the scene's folder)
-    TerrainOptions terrain;
-    HeightmapOptions heightmap;
-    SphereOptions sphere;
-    BoxOptions box;
-    double tessellateEdge = 0.0; ///< split edges longer than this, object units (0..1e12); 0: off
+    std::string path; ///< Kind::File: resolved against the scene's folder
+    TerrainSettings terrain;
+    HeightmapSettings heightmap;
+    SphereSettings sphere;
+    BoxSettings box;
+    double tessellateEdge = 0.0;
 
     /// Throws OptionError naming the first option out of range ("tessellate",
     /// "terrain/octaves", ...).
@@ -48,6 +48,6 @@ struct MeshSource {
 };
 
 /// Loads or generates the mesh; zero-area triangles are dropped (counted in report).
-TriangleMesh makeMesh(const MeshSource& source, MeshLoadReport* report = nullptr);
+TriangleMesh makeMesh(const MeshSettings& source, MeshLoadReport* report = nullptr);
 
 } // namespace vfield

@@ -19,17 +19,13 @@ namespace vfield {
 /// Catmull-Rom curve, so a few points describe a winding canyon. With a
 /// floorHeight the carve levels the ground to that height instead: a canyon
 /// through rugged mountains gets an even floor, its walls keep the relief.
-struct TerrainCarve {
-    std::vector<Vec2d> path;    ///< (x, z) points, world units; at least two
-    double halfWidth = 10.0;    ///< distance from the path at which the cut ends, world units (1e-9..1e12)
-    double depth = 10.0;        ///< how far the path's centre line is lowered, world units (-1e12..1e12; < 0 raises a ridge)
-    double wallSharpness = 1.0; ///< profile shape: 1 a smooth valley, larger values steeper walls and a flatter floor (1..100)
-    /// How far the walls wander in and out (buttresses and alcoves), world
-    /// units (0..halfWidth): fBm at the scale of halfWidth added to the
-    /// distance from the path; 0 keeps the walls parallel to it.
-    double wallRoughness = 0.0;
-    /// When set, the height the path's centre line is levelled to (world
-    /// units), the profile blending it into the ground around; depth is unused.
+struct CarveSettings {
+    std::vector<Vec2d> path;
+    double halfWidth = 10.0;
+    double depth = 10.0;
+    double wallSharpness = 1.0;
+    double wallRoughness = 0.0; ///< 0 keeps the walls parallel to the path
+    /// The profile blends the levelled centre line into the ground around.
     std::optional<double> floorHeight;
 
     /// Throws OptionError naming the first option out of range.
@@ -80,23 +76,23 @@ constexpr const auto& enumNames(TerrainStyle) { return kTerrainStyleNames; }
 /// not a simulation of water).
 /// The solid is the surface, four vertical skirts and a bottom plane
 /// `baseThickness` below the lowest surface point.
-struct TerrainOptions {
+struct TerrainSettings {
     static constexpr int kMaxCellsPerAxis = 8192;
     static constexpr double kMaxCells = 64e6; ///< in all: cellsX x cellsZ
 
-    uint64_t seed = 1;         ///< noise seed; the same seed gives the same terrain on every machine
-    double sizeX = 200.0;      ///< extent along x, world units (1e-9..1e12)
-    double sizeZ = 200.0;      ///< extent along z, world units (1e-9..1e12)
-    int cellsX = 128;          ///< grid cells along x (1..kMaxCellsPerAxis); the surface has 2 * cellsX * cellsZ triangles
-    int cellsZ = 128;          ///< grid cells along z (1..kMaxCellsPerAxis), at most kMaxCells in all
-    double amplitude = 30.0;   ///< height of the noise, world units (0..1e9); heights span about [0, amplitude]
-    double featureSize = 80.0; ///< wavelength of the coarsest noise octave, world units (1e-9..1e12)
-    int octaves = 5;           ///< noise octaves (1..16)
-    double roughness = 0.5;    ///< amplitude ratio of successive octaves (0..1)
+    uint64_t seed = 1;
+    double sizeX = 200.0;
+    double sizeZ = 200.0;
+    int cellsX = 128;
+    int cellsZ = 128;
+    double amplitude = 30.0;
+    double featureSize = 80.0;
+    int octaves = 5;
+    double roughness = 0.5;
     TerrainStyle style = TerrainStyle::Fbm;
-    double erosion = 0.0;             ///< valley flattening (0..1); 0 leaves the noise as it is
-    double baseThickness = 10.0;      ///< depth of the solid below the lowest surface point, world units (1e-9..1e12)
-    std::vector<TerrainCarve> carves; ///< valleys, canyons and ridges, applied in order
+    double erosion = 0.0; ///< 0 leaves the noise as it is
+    double baseThickness = 10.0;
+    std::vector<CarveSettings> carves;
 
     /// Throws OptionError naming the first option out of range (keys as in a
     /// scene file: "size/0", "cells/1", "carves/2/halfWidth", ...).
@@ -136,30 +132,27 @@ struct TerrainOptions {
 };
 
 /// The surface height at (x, z): the same function the mesh samples.
-double terrainHeight(const TerrainOptions& options, double x, double z);
-TriangleMesh makeTerrain(const TerrainOptions& options);
+double terrainHeight(const TerrainSettings& options, double x, double z);
+TriangleMesh makeTerrain(const TerrainSettings& options);
 
 /// A terrain from an elevation image (a 16-bit PNG, TIFF or EXR; first
 /// channel), closed into a solid as makeTerrain's. The image spans
 /// [-sizeX/2, sizeX/2] x [-sizeZ/2, sizeZ/2] corner pixel to corner pixel,
 /// its rows along +z; heights are heightScale x the pixel value (integer
 /// formats read as [0, 1]), sampled bilinearly at the grid's points.
-struct HeightmapOptions {
+struct HeightmapSettings {
     /// Heights, pixel value x heightScale, must lie within +-this many world
     /// units: a real elevation model is thousands of units high, a broken one
     /// 1e30, which no float mesh can hold.
     static constexpr double kMaxHeight = 1e6;
 
-    std::string path;            ///< the image (a scene file's path is resolved against its folder)
-    double sizeX = 200.0;        ///< extent along x, world units (1e-9..1e12)
-    double sizeZ = 200.0;        ///< extent along z, world units (1e-9..1e12)
-    double heightScale = 50.0;   ///< world units per unit of pixel value (-1e9..1e9)
-    int cellsX = 0;              ///< grid cells along x (0..8192); 0: one per pixel
-    int cellsZ = 0;              ///< grid cells along z (0..8192); 0: one per pixel
-    double baseThickness = 10.0; ///< depth of the solid below its lowest point, world units (1e-9..1e12)
-    /// Pixels that hold no number (NaN or infinite: an elevation model's
-    /// no-data holes) take the value of their nearest valid pixel; otherwise
-    /// the first one is refused, naming it.
+    std::string path; ///< a scene file's path is resolved against its folder
+    double sizeX = 200.0;
+    double sizeZ = 200.0;
+    double heightScale = 50.0;
+    int cellsX = 0;
+    int cellsZ = 0;
+    double baseThickness = 10.0;
     bool fillNoData = false;
 
     void validate() const;
@@ -178,7 +171,7 @@ struct HeightmapOptions {
                   .doc("extent, centred on the origin"));
         visit(field("heightScale", self.heightScale).range(-1e9, 1e9).doc("world units per unit of pixel value"));
         visit(field("cells", pairOf(self.cellsX, self.cellsZ, "cellsX, cellsZ"))
-                  .range(0, TerrainOptions::kMaxCellsPerAxis)
+                  .range(0, TerrainSettings::kMaxCellsPerAxis)
                   .defaultText("one per pixel")
                   .doc("grid cells; 0: one per pixel"));
         visit(field("baseThickness", self.baseThickness)
@@ -192,12 +185,12 @@ struct HeightmapOptions {
 };
 /// Throws FileError naming the file and the first pixel (x, y) that holds no
 /// number (unless fillNoData), or whose height lies beyond kMaxHeight.
-TriangleMesh makeHeightmapTerrain(const HeightmapOptions& options);
+TriangleMesh makeHeightmapTerrain(const HeightmapSettings& options);
 
-struct SphereOptions {
-    Vec3d center{0.0, 0.0, 0.0}; ///< world units
-    double radius = 1.0;         ///< world units (1e-12..1e12)
-    int subdivisions = 3;        ///< icosahedron subdivisions (0..8): 20 * 4^n triangles
+struct SphereSettings {
+    Vec3d center{0.0, 0.0, 0.0};
+    double radius = 1.0;
+    int subdivisions = 3;
 
     /// Throws OptionError naming the first option out of range.
     void validate() const;
@@ -210,11 +203,11 @@ struct SphereOptions {
         visit(field("subdivisions", self.subdivisions).range(0, 8).doc("icosahedron subdivisions: 20 x 4^n triangles"));
     }
 };
-TriangleMesh makeSphere(const SphereOptions& options);
+TriangleMesh makeSphere(const SphereSettings& options);
 
-struct BoxOptions {
-    Vec3d min{-1.0, -1.0, -1.0}; ///< world units
-    Vec3d max{1.0, 1.0, 1.0};    ///< world units (> min on every axis)
+struct BoxSettings {
+    Vec3d min{-1.0, -1.0, -1.0};
+    Vec3d max{1.0, 1.0, 1.0};
 
     /// Throws OptionError unless max exceeds min on every axis.
     void validate() const;
@@ -226,6 +219,6 @@ struct BoxOptions {
         visit(field("max", self.max).unit("world units").doc("upper corner, above min on every axis"));
     }
 };
-TriangleMesh makeBox(const BoxOptions& options);
+TriangleMesh makeBox(const BoxSettings& options);
 
 } // namespace vfield

@@ -47,7 +47,7 @@ public:
     /// point is not darkened by interpolation. Read from the sun-aligned
     /// depth map, whatever the light grids' cells: read from those on a face
     /// of a large box (a cloud with a stray wisp far away), a small cloud's
-    /// shadow came out as nested squares of their size.
+    /// shadow would come out as nested squares of their size.
     double sunTransmittance(const Vec3d& p) const;
     /// The share of the sun no surface blocks at a point of the cloud, read
     /// trilinearly from its grid, unclamped.

@@ -4,6 +4,7 @@
 /// (vfield's own renderer and the POV-Ray export) shades them alike.
 
 #include <vfield/render/render_settings.h>
+#include <vfield/sim/scene_setup.h>
 
 #include <limits>
 
@@ -72,5 +73,9 @@ Vec3d throughHaze(const SkySettings& sky, const Vec3d& radiance, double distance
 /// Light the sky gives a surface with unit normal `normal` (linear RGB
 /// irradiance over pi): the zenith's colour facing up, half the horizon's sideways.
 Vec3d skyLightOnSurface(const SkySettings& sky, const Vec3d& normal);
+
+/// How a scene object's surface is coloured: terrain and heightmap meshes as
+/// terrain, everything else painted in the object's colour.
+SurfaceMaterial surfaceMaterialOf(const ObjectSettings& object);
 
 } // namespace vfield

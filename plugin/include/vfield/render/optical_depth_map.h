@@ -11,14 +11,12 @@
 /// Why not a march per sample, or a coarse grid: the transmittance is the
 /// exponential of the depth, so an error that varies from sample to sample
 /// brightens the cloud on average (Jensen's inequality), and a coarse grid,
-/// whose cells average the density across several rays, darkens it. Marched
-/// per sample in steps growing to four light-grid cells, then read from a
-/// grid of 64 cells across the cloud, the displaced cumulus's single
-/// scattering was 1.06 / 1.06 / 1.09 of the reference path tracer's (the sun
-/// 140, 90 and 30 degrees from the view); marched in half-voxel steps, then
-/// read from that grid, 0.91 to 0.95; marched through the whole cloud in
-/// half-voxel steps, 0.99 to 1.00; read from this map, 0.99 / 0.99 / 1.00
-/// (README, "Rendering").
+/// whose cells average the density across several rays, darkens it: marched
+/// per sample near the point and then read from a coarse grid, a displaced
+/// cumulus's single scattering strays several percent from the reference
+/// path tracer's, one way or the other; marched in half-voxel steps through
+/// the whole cloud for every sample, or read from this map once a frame, it
+/// is the reference's within about 1% (docs/rendering.md, "Accuracy").
 
 #include <vfield/core/math.h>
 #include <vfield/core/trilinear_sampler.h>
@@ -46,9 +44,10 @@ public:
         /// not, at the cloud's lit edge, p's own way goes on a slice at a
         /// time (at most eight) until all or none have. The depth bends there
         /// from none to growing fast, and read across the bend (or along it,
-        /// trilinearly between slices) it came out too deep just inside the
-        /// edge: a sphere of cloud (tests/optical_depth_map_test.cpp) let
-        /// through 4 to 5% too little light on average; now 1 to 2%.
+        /// trilinearly between slices) it comes out too deep just inside the
+        /// edge, and a sphere of cloud (tests/render/optical_depth_map_test.cpp)
+        /// lets through several percent too little light; p's own way keeps
+        /// that within 1 to 2%.
         double at(const Vec3d& p);
 
     private:

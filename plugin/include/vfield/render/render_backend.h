@@ -5,7 +5,7 @@
 /// an output folder. Embree's (render/embree/embree_backend.h) and POV-Ray's
 /// (render/povray/povray_backend.h) implement it; CompositeBackend renders
 /// with several at once and puts their images side by side. Which back-ends
-/// a run may pick is the scene stage's registry (scene/render_backends.h):
+/// a run may pick is the run stage's registry (run/render_backends.h):
 /// a new back-end is a new class and a line there, and touches no other.
 ///
 /// A back-end prepares what lasts across frames once, before its first frame

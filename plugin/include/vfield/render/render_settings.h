@@ -23,7 +23,7 @@ double henyeyGreenstein(double cosTheta, double g);
 /// units; x forward, y up, z right): -x along the path it flew and y above,
 /// or, for x >= 0, in its heading frame; in front of any surface between the
 /// two (followCamera() in camera.h).
-struct CameraFollow {
+struct CameraFollowSettings {
     std::string object;
     Vec3d offset{-30.0, 10.0, 0.0};
 
@@ -41,11 +41,11 @@ struct CameraFollow {
 };
 
 struct CameraSettings {
-    Vec3d position{0.0, 50.0, 200.0}; ///< world units
-    Vec3d lookAt{0.0, 0.0, 0.0};      ///< world point at the image centre
-    Vec3d up{0.0, 1.0, 0.0};          ///< non-zero
-    double fovDegrees = 45.0;         ///< vertical field of view (1e-3..179)
-    std::optional<CameraFollow> follow;
+    Vec3d position{0.0, 50.0, 200.0};
+    Vec3d lookAt{0.0, 0.0, 0.0};
+    Vec3d up{0.0, 1.0, 0.0};
+    double fovDegrees = 45.0;
+    std::optional<CameraFollowSettings> follow;
 
     /// Throws OptionError naming the first option out of range.
     void validate() const;
@@ -64,9 +64,9 @@ struct CameraSettings {
 };
 
 struct SunSettings {
-    Vec3d direction{0.4, 0.8, 0.3}; ///< towards the sun (non-zero; normalized on use)
-    Vec3d color{1.0, 0.96, 0.9};    ///< linear RGB, >= 0
-    double intensity = 3.0;         ///< radiance scale of the sun's light (0..1e6)
+    Vec3d direction{0.4, 0.8, 0.3}; ///< normalized on use
+    Vec3d color{1.0, 0.96, 0.9};
+    double intensity = 3.0;
 
     void validate() const;
 
@@ -82,12 +82,9 @@ struct SunSettings {
 };
 
 struct SkySettings {
-    Vec3d zenithColor{0.12, 0.28, 0.75}; ///< linear RGB, >= 0
-    Vec3d horizonColor{0.55, 0.68, 0.9}; ///< linear RGB, >= 0
-    double intensity = 1.0;              ///< (0..1e6)
-    /// Aerial perspective: the distance over which haze of the horizon's
-    /// colour covers what is seen, world units (0..1e12); 0: clear air.
-    /// What lies at distance d keeps e^(-d / hazeDistance) of its light.
+    Vec3d zenithColor{0.12, 0.28, 0.75};
+    Vec3d horizonColor{0.55, 0.68, 0.9};
+    double intensity = 1.0;
     double hazeDistance = 0.0;
 
     void validate() const;
@@ -112,17 +109,13 @@ struct SkySettings {
 struct ImageSettings {
     static constexpr int kMaxResolution = 16384; ///< pixels along either side
 
-    int width = 640, height = 360; ///< pixels (1..kMaxResolution)
-    int samplesPerPixel = 4;       ///< (1..65536)
-    /// Above 0, every pixel takes one sample, and only those whose display
-    /// value (sRGB-encoded colour, any channel, or coverage, in [0, 1])
-    /// differs from a neighbour's by more than this take all samplesPerPixel,
-    /// as POV-Ray's adaptive anti-aliasing does. 0: every pixel takes them all.
-    /// The reference integrator takes them all in every pixel whatever this
-    /// is: deciding from a first sample would keep it from converging.
-    double adaptiveThreshold = 0.0; ///< (0..1)
-    /// The sky drawn as RGB 0, alpha 0, for compositing over a plate; by
-    /// default it is drawn, opaque (alpha 1). Frames are premultiplied either way.
+    int width = 640, height = 360;
+    int samplesPerPixel = 4;
+    /// As POV-Ray's adaptive anti-aliasing does. The reference integrator
+    /// takes every sample in every pixel whatever this is: deciding from a
+    /// first sample would keep it from converging.
+    double adaptiveThreshold = 0.0;
+    /// Off, the sky is drawn opaque (alpha 1); frames are premultiplied either way.
     bool transparentSky = false;
 
     /// Keys as in a scene file's "render": "resolution/0", "samplesPerPixel".
@@ -153,11 +146,11 @@ struct ImageSettings {
 /// a strong forward lobe gives the silver lining of a cloud seen towards the
 /// sun, the backward lobe its brightness seen with the sun behind.
 struct MediumSettings {
-    double extinction = 1.0;      ///< sigma_t per unit density, 1 / world units (0..1e9)
-    double albedo = 0.9;          ///< scattering / extinction (0..1)
-    double anisotropy = 0.3;      ///< the forward lobe's g (-0.99..0.99)
-    double backAnisotropy = -0.3; ///< the backward lobe's g (-0.99..0.99)
-    double backWeight = 0.0;      ///< the backward lobe's share (0..1); 0: one lobe
+    double extinction = 1.0;
+    double albedo = 0.9;
+    double anisotropy = 0.3;
+    double backAnisotropy = -0.3;
+    double backWeight = 0.0; ///< 0: one lobe
 
     /// The phase function for the cosine between the directions of
     /// propagation before and after scattering; integrates to 1 over the sphere.
@@ -185,10 +178,9 @@ struct MediumSettings {
 /// c^i of the phase's eccentricity: nothing where the cloud is thin, much deep
 /// inside it. The defaults are fitted to the reference path tracer: a sphere
 /// of cloud lit from the side and a box lit from above within 10%
-/// (tests/reference_integrator_test.cpp), and a dense billowed cumulus
+/// (tests/render/reference_integrator_test.cpp), and a dense billowed cumulus
 /// (scenes/features/cumulus.json) lit from behind the camera, the side and
-/// the front within 10%, where a = 0.8 and c = 0.5 gave 0.55 to 0.96 of the
-/// reference once its single scattering was exact.
+/// the front within 10%.
 ///
 /// Octaves place the light only on average: in a thick cloud the light that
 /// enters, scatters many times and comes back out elsewhere is not where they
@@ -200,15 +192,15 @@ inline constexpr EnumName<MultipleScatteringMethod> kMultipleScatteringMethodNam
     {MultipleScatteringMethod::Octaves, "octaves"}, {MultipleScatteringMethod::Paths, "paths"}};
 constexpr const auto& enumNames(MultipleScatteringMethod) { return kMultipleScatteringMethodNames; }
 
-struct MultipleScattering {
+struct MultipleScatteringSettings {
     MultipleScatteringMethod method = MultipleScatteringMethod::Octaves;
-    int octaves = 4;                   ///< (1..8)
-    double scatteringFalloff = 0.9;    ///< a, for the sun (0..1)
-    double extinctionFalloff = 0.3;    ///< b (0..1)
-    double eccentricityFalloff = 0.25; ///< c (0..1)
-    double skyScatteringFalloff = 0.5; ///< a for the light of the sky and the ground, diffuse already (0..1)
-    double pathSpacing = 6.0;          ///< paths: lattice spacing, density voxels (1..64)
-    int pathsPerFrame = 50000;         ///< paths: camera paths gathered into the lattice, at most (1..1e6)
+    int octaves = 4;
+    double scatteringFalloff = 0.9;
+    double extinctionFalloff = 0.3;
+    double eccentricityFalloff = 0.25;
+    double skyScatteringFalloff = 0.5; ///< its own a: that light is diffuse already
+    double pathSpacing = 6.0;
+    int pathsPerFrame = 50000;
 
     void validate() const;
 
@@ -259,14 +251,11 @@ constexpr const auto& enumNames(IntegratorKind) { return kIntegratorKindNames; }
 /// How a ray integrates the medium.
 struct IntegratorSettings {
     IntegratorKind kind = IntegratorKind::Fast;
-    /// Reference: scattering or reflection events a path may have (1..1e6);
-    /// 1 is single scattering. Paths also end by Russian roulette after three.
-    int maxBounces = 1000;
-    double volumeStep = 0.5; ///< Fast: ray-march step in the volume, world units (1e-6..1e9)
-    /// March only through OpenVDB nodes holding density (VolumeRayIntersector)
-    /// instead of across the cloud's whole box.
+    int maxBounces = 1000; ///< Russian roulette may end a path after three
+    double volumeStep = 0.5;
+    /// By VolumeRayIntersector, instead of across the cloud's whole box.
     bool skipEmptySpace = true;
-    MultipleScattering multipleScattering;
+    MultipleScatteringSettings multipleScattering;
 
     void validate() const;
 
@@ -288,20 +277,6 @@ struct IntegratorSettings {
     }
 };
 
-/// How the POV-Ray back-end trades time for quality.
-enum class PovrayQuality {
-    /// Every pixel supersampled on an unjittered n x n grid (samplesPerPixel =
-    /// n^2), media sampled at every volumeStep: what the golden images take.
-    Final,
-    /// Antialiasing where a pixel differs from its neighbours by more than
-    /// 0.3 only (2 x 2, one level deep), a quarter of the media samples
-    /// (at least 8): for previews and farm dailies.
-    Preview
-};
-inline constexpr EnumName<PovrayQuality> kPovrayQualityNames[] = {{PovrayQuality::Final, "final"},
-                                                                  {PovrayQuality::Preview, "preview"}};
-constexpr const auto& enumNames(PovrayQuality) { return kPovrayQualityNames; }
-
 struct RenderSettings {
     CameraSettings camera;
     SunSettings sun;
@@ -309,7 +284,6 @@ struct RenderSettings {
     ImageSettings image;
     MediumSettings medium;
     IntegratorSettings integrator;
-    PovrayQuality povrayQuality = PovrayQuality::Final;
 
     /// Checks every part; keys as in a scene file ("camera/fovDegrees",
     /// "render/resolution/0", "render/albedo", ...). Throws OptionError.
@@ -331,10 +305,6 @@ struct RenderSettings {
             render(inlineFields(self.image));
             render(inlineFields(self.medium));
             render(inlineFields(self.integrator));
-            render(field("povrayQuality", self.povrayQuality)
-                       .doc("POV-Ray back-end: final supersamples every pixel (n x n for samplesPerPixel n^2) and samples "
-                            "the media at every volumeStep; preview antialiases only pixels that differ from their neighbours by "
-                            "more than 0.3 (2 x 2) and takes a quarter of the media samples (at least 8), for dailies"));
         }));
     }
 };

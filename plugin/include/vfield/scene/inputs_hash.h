@@ -13,6 +13,6 @@
 namespace vfield {
 
 /// Throws FileError for an unreadable mesh file.
-uint64_t simulationInputsHash(const SimulationSetup& setup, const VolumeOptions& volume);
+uint64_t simulationInputsHash(const SimulationSettings& setup, const VolumeSettings& volume);
 
 } // namespace vfield

@@ -5,15 +5,15 @@
 /// the machine is refused at once, naming the key that makes it large,
 /// instead of exhausting memory minutes later with nothing written.
 ///
-/// The costs are fitted to measured peaks (resident set size, simulate of
-/// the cloud showcase, OpenVDB 10, 2 threads): about 120 bytes per mesh
-/// triangle (the mesh, its octree while it is built, the voxelized field,
-/// the clearance level set; 119 measured from 13M to 52M triangles), 192 per
-/// particle (positions and velocities, the particle and density grids, the
-/// saved state), 4 per density voxel the clouds' initial boxes cover at most,
-/// and 200 MiB for the libraries and buffers. Mesh files count as triangles
-/// by their size (an OBJ or OFF line per vertex and face, about 32 bytes per
-/// triangle; binary PLY 16; STL 50); `tessellate` is not counted.
+/// The costs are fitted to simulations' peak resident set sizes: about 120
+/// bytes per mesh triangle (the mesh, its octree while it is built, the
+/// voxelized field, the clearance level set; alike over tens of millions of
+/// triangles), 192 per particle (positions and velocities, the particle and
+/// density grids, the saved state), 4 per density voxel the clouds' initial
+/// boxes cover at most, and 200 MiB for the libraries and buffers. Mesh
+/// files count as triangles by their size (an OBJ or OFF line per vertex and
+/// face, about 32 bytes per triangle; binary PLY 16; STL 50); `tessellate`
+/// is not counted.
 
 #include <vfield/scene/scene.h>
 

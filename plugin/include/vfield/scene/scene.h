@@ -1,8 +1,9 @@
 #pragma once
 /// @file scene.h
-/// A scene file (JSON, "version": 1, documented in scenes/README.md) parsed
+/// A scene file (JSON, "version": 1, documented in docs/scenes.md) parsed
 /// once into every stage's typed options. Nothing after this sees JSON.
 
+#include <vfield/render/povray/povray_settings.h>
 #include <vfield/render/render_settings.h>
 #include <vfield/sim/scene_setup.h>
 #include <vfield/volume/density_splat.h>
@@ -17,18 +18,19 @@ struct Scene {
     static constexpr double kMaxDensityVoxels = 2e9; ///< a cloud's initial box, in density voxels
 
     std::string path; ///< the scene file
-    int version = 1;  ///< of the scene format
-    SimulationSetup simulation;
-    VolumeOptions volume; ///< resolved: defaults filled in from the clouds' particle radii
+    int version = 1;
+    SimulationSettings simulation;
+    VolumeSettings volume; ///< resolved: defaults filled in from the clouds' particle radii
     RenderSettings render;
+    PovraySettings povray;
 
-    const ObjectSpec* findObject(const std::string& name) const;
+    const ObjectSettings* findObject(const std::string& name) const;
     /// Checks every part (keys as in the file: "clouds/0/count",
     /// "render/resolution/0", ...), that a followed object is a dynamic object
     /// of the scene, and that each cloud's density grid fits. Throws OptionError.
     void validate() const;
 
-    /// Every key of a scene file (scenes/README.md is generated from it).
+    /// Every key of a scene file (docs/scenes.md's tables are generated from it).
     template<typename Self, typename Visitor>
     static void visitFields(Self& self, Visitor& visit)
     {
@@ -36,6 +38,7 @@ struct Scene {
         visit(inlineFields(self.simulation));
         visit(field("volume", self.volume).doc("the density grids"));
         visit(inlineFields(self.render));
+        visit(field("povray", self.povray).doc("the POV-Ray back-end's own settings"));
     }
 };
 

@@ -3,7 +3,7 @@
 /// The documentation of every key a scene file may hold, derived from the
 /// options structs' declarations (core/fields.h): a table per object of the
 /// file ("scene", "objects[]", "objects[].mesh.terrain", ...). Documents
-/// (scenes/README.md) hold them between marker lines
+/// (docs/scenes.md) hold them between marker lines
 ///     <!-- keys: objects[] -->
 ///     | key | type | default | meaning |
 ///     ...

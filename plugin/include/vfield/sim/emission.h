@@ -1,6 +1,6 @@
 #pragma once
 /// @file emission.h
-/// CloudSpec (world space) -> the particles a simulation starts with: each
+/// CloudSettings (world space) -> the particles a simulation starts with: each
 /// cloud's shape filled uniformly, cut into lumps by billow noise, from its
 /// own random stream (its seed mixed with the scene's), so the same scene
 /// gives the same particles on every machine.
@@ -12,6 +12,6 @@ namespace vfield {
 
 /// Every cloud's particles, in cloud order, ids from 0; rest positions where
 /// they are emitted.
-ParticleSet emitClouds(const SimulationSetup& setup);
+ParticleSet emitClouds(const SimulationSettings& setup);
 
 } // namespace vfield

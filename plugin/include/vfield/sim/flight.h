@@ -2,7 +2,7 @@
 /// @file flight.h
 /// A dynamic object's state, and how it turns: its heading follows its
 /// velocity at once, its pitch and (with bank) its roll follow at most at
-/// their rates (ObjectSpec). Pushing it is the simulator's (the paper's hit
+/// their rates (ObjectSettings). Pushing it is the simulator's (the paper's hit
 /// test against every other field, simulator.h).
 
 #include <vfield/core/transform.h>
@@ -22,7 +22,7 @@ struct DynamicState {
 /// to its velocity (nose +x, up +y), pitch towards the velocity's and, with
 /// bank, roll into the turn from the sideways acceleration, each at most at
 /// its rate. Roll follows the acceleration, which jumps tenfold at a field's
-/// surface leaves: unlimited, it flipped sign within a substep.
-void turnToVelocity(DynamicState& state, const Vec3d& acceleration, const ObjectSpec& spec, double dt);
+/// surface leaves: unlimited, it would flip sign within a substep.
+void turnToVelocity(DynamicState& state, const Vec3d& acceleration, const ObjectSettings& spec, double dt);
 
 } // namespace vfield

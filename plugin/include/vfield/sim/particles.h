@@ -33,14 +33,14 @@ struct ParticleSet {
     /// last reset (world units): the material coordinate that detail is drawn
     /// at, so that detail travels with the cloud.
     std::vector<Vec3f> rest;
-    /// Dual rest (SimulationOptions::restPeriod): a second rest position,
+    /// Dual rest (SolverSettings::restPeriod): a second rest position,
     /// reset half a period after `rest`; empty with a single rest.
     std::vector<Vec3f> rest2;
     /// How much of the detail comes from rest2 (0..1): 0 whenever rest2 is
     /// reset, 1 whenever rest is, so no reset shows. 0 with a single rest.
     float rest2Weight = 0.0f;
     /// The highest the particle has been at a frame's end (world y): how far
-    /// it has sunk since is what evaporates it (VolumeOptions::condensation).
+    /// it has sunk since is what evaporates it (VolumeSettings::condensation).
     /// The simulator keeps one per particle; may be empty in sets made elsewhere.
     std::vector<float> peak;
     std::vector<uint32_t> id;    ///< unique for the whole sequence

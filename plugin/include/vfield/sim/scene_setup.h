@@ -20,22 +20,20 @@ namespace vfield {
 /// The most particles a scene may ask for in all: memory for state and splats.
 constexpr int64_t kMaxParticles = 50'000'000;
 
-struct ObjectSpec {
+struct ObjectSettings {
     std::string name;
-    MeshSource mesh;
-    Transform transform;    ///< placement of the mesh (for dynamic objects: at the first frame)
-    bool isDynamic = false; ///< moves through the fields (the airplane); else fixed
-    double mass = 1.0;      ///< dynamic only (1e-9..1e12)
-    double drag = 0.0;      ///< dynamic only: deceleration per unit velocity, 1/s (0..1e6)
-    Vec3d velocity{0.0};    ///< dynamic only: initial velocity, world units/s
-    /// Dynamic only: the mesh's nose is +x and its up +y in object space; its
-    /// heading and pitch follow the velocity, and with bank it rolls into turns.
+    MeshSettings mesh;
+    Transform transform;
+    bool isDynamic = false; ///< the key "motion"
+    double mass = 1.0;
+    double drag = 0.0;
+    Vec3d velocity{0.0};
+    /// The mesh's nose is +x and its up +y in object space; its heading and
+    /// pitch follow the velocity.
     bool bank = false;
-    double maxRollRate = 90.0;  ///< dynamic only: degrees/s (0..1e5); per frame at most this / fps
-    double maxPitchRate = 60.0; ///< dynamic only: degrees/s (0..1e5)
-    std::optional<RepulsionOptions> repulsion = RepulsionOptions{}; ///< none: no field around it
-    /// For renderers: the diffuse reflectance of a mesh that is not ground
-    /// (terrain and heightmaps are shaded as such), linear RGB (0..1).
+    double maxRollRate = 90.0;
+    double maxPitchRate = 60.0;
+    std::optional<RepulsionSettings> repulsion = RepulsionSettings{};
     Vec3d color{0.62, 0.62, 0.66};
 
     /// Throws OptionError naming the first option out of range.
@@ -88,26 +86,23 @@ struct ObjectSpec {
     }
 };
 
-struct CloudSpec {
+struct CloudSettings {
     enum class Shape { Sphere, Ellipsoid, Box };
     static constexpr EnumName<Shape> kShapeNames[] = {
         {Shape::Sphere, "sphere"}, {Shape::Ellipsoid, "ellipsoid"}, {Shape::Box, "box"}};
     friend constexpr const auto& enumNames(Shape) { return kShapeNames; }
     std::string name = "cloud";
-    int64_t count = 10000; ///< particles (1..kMaxParticles)
+    int64_t count = 10000;
     Shape shape = Shape::Sphere;
-    Vec3d center{0.0};             ///< world units
-    Vec3d radii{10.0, 10.0, 10.0}; ///< sphere: radius (all equal); ellipsoid: semi-axes; box: half extents (1e-9..1e9)
-    /// How deep rounded puffs cut into the shape, a fraction of its radii
-    /// (0..0.9): the outline of a cumulus, drawn by billow noise on the
-    /// emitted positions; 0 fills the plain shape.
-    double billow = 0.0;
-    double billowSize = 0.0;     ///< world units (0..1e9): the size of the largest puffs; 0: a third of the smallest radius
-    double particleRadius = 0.5; ///< world units (1e-9..1e9); the density's default voxel and kernel scale with it
-    double mass = 1.0;           ///< per particle (1e-9..1e12): repulsive forces are divided by it
-    double drag = 0.5;           ///< 1/s (0..1e6)
-    Vec3d velocity{0.0};         ///< initial, world units/s
-    uint64_t seed = 1;           ///< placement of the particles (mixed with the scene's seed)
+    Vec3d center{0.0};
+    Vec3d radii{10.0, 10.0, 10.0}; ///< sphere: radius (all equal); ellipsoid: semi-axes; box: half extents
+    double billow = 0.0;           ///< drawn by billow noise on the emitted positions
+    double billowSize = 0.0;
+    double particleRadius = 0.5;
+    double mass = 1.0;
+    double drag = 0.5;
+    Vec3d velocity{0.0};
+    uint64_t seed = 1;
 
     /// Throws OptionError naming the first option out of range.
     void validate() const;
@@ -160,14 +155,12 @@ struct CloudSpec {
 
 /// A uniform acceleration (world units/s^2), everywhere or inside a box whose
 /// influence fades to zero across a soft edge outside it.
-struct UniformFieldSpec {
+struct UniformFieldSettings {
     std::string name = "field";
     Vec3d acceleration{0.0};
     std::optional<BBoxd> box;
-    double softEdge = 0.0; ///< world units (0..1e12): width of the linear fade outside the box; needs a box
-    /// Names of the dynamic objects and clouds it acts on (each aircraft its
-    /// own driving force); empty: on everything that moves.
-    std::vector<std::string> affects;
+    double softEdge = 0.0;
+    std::vector<std::string> affects; ///< empty: everything that moves
 
     /// Whether it acts on the object or cloud of this name.
     bool acts(const std::string& name) const;
@@ -196,27 +189,17 @@ struct UniformFieldSpec {
     }
 };
 
-struct SimulationOptions {
+struct SolverSettings {
     using Sampling = FieldSampling;
-    /// How particles read the objects' fields (FieldSampling): dual, continuous
-    /// across octree leaf faces and changes of level; nearest, the paper's field, constant over each leaf.
     Sampling sampling = Sampling::Dual;
-    /// Nothing moves more than cfl x (the finest leaf size of any field) in one substep (1e-3..1).
     double cfl = 0.5;
-    /// Particles leaving this box are removed (and counted). Unset: the union of
-    /// all fields' root cubes and the clouds' initial boxes.
+    /// Unset: the union of all fields' root cubes and the clouds' initial boxes.
     std::optional<BBoxd> domain;
-    /// Dual rest, frames (0 or an even number, 2..9998): every particle's rest
-    /// position is reset to where it stands every restPeriod frames, its
-    /// second rest half a period later, and detail blends the two so that no
-    /// reset shows (ParticleSet::rest2Weight): detail drawn at rest stretches
-    /// with the material no more than one period's motion. 0: one rest
-    /// position, where the particle was emitted, never reset.
+    /// Blended by ParticleSet::rest2Weight: detail drawn at rest stretches
+    /// with the material no more than one period's motion.
     int restPeriod = 0;
-    /// Frames (0..9999) the clouds move before the first frame, under every
-    /// field, the objects held at their first poses: the flow's swirls shape
-    /// a cloud before it is seen. Particles rest where it leaves them, and
-    /// their condensation (VolumeOptions) counts their descent from there.
+    /// The clouds' condensation (VolumeSettings) counts their descent from
+    /// where the preroll leaves them.
     int preroll = 0;
 
     /// Throws OptionError naming the first option out of range.
@@ -249,18 +232,18 @@ struct SimulationOptions {
     }
 };
 
-struct SimulationSetup {
+struct SimulationSettings {
     static constexpr int kMaxFrame = 9999; ///< frame numbers have four digits in file names
 
-    int firstFrame = 1;  ///< frame numbers of the sequence (0..kMaxFrame)
-    int lastFrame = 120; ///< (firstFrame..kMaxFrame)
-    double fps = 24.0;   ///< frames per second (1e-3..1e4); frame f is at time (f - firstFrame) / fps
+    int firstFrame = 1;
+    int lastFrame = 120;
+    double fps = 24.0;
     uint64_t seed = 1;
-    std::vector<ObjectSpec> objects;
-    std::vector<CloudSpec> clouds;
-    std::vector<UniformFieldSpec> fields;
-    std::vector<TurbulenceSpec> turbulence;
-    SimulationOptions options;
+    std::vector<ObjectSettings> objects;
+    std::vector<CloudSettings> clouds;
+    std::vector<UniformFieldSettings> fields;
+    std::vector<TurbulenceSettings> turbulence;
+    SolverSettings solver;
 
     double frameTime(int frame) const { return (frame - firstFrame) / fps; }
     /// Checks every part (keys as in a scene file: "frames/end",
@@ -282,7 +265,7 @@ struct SimulationSetup {
         visit(field("clouds", self.clouds).doc("particle clouds"));
         visit(field("fields", self.fields).doc("uniform acceleration fields: gravity, wind, driving forces"));
         visit(field("turbulence", self.turbulence).doc("curl-noise swirls at several sizes that stir clouds, divergence-free"));
-        visit(field("simulation", self.options).doc("sampling, step size, domain, rest, preroll"));
+        visit(field("simulation", self.solver).doc("sampling, step size, domain, rest, preroll"));
     }
 };
 

@@ -1,6 +1,6 @@
 #pragma once
 /// @file simulator.h
-/// SimulationSetup -> particles and dynamic objects moving frame by frame
+/// SimulationSettings -> particles and dynamic objects moving frame by frame
 /// through the sum of all fields (world space), collision-free because the
 /// objects' repulsive octree fields push back ever harder near their surfaces
 /// (or the alternatives of repulsion_field.h, for comparison).
@@ -48,7 +48,7 @@ namespace vfield {
 
 /// One scene object as the simulator holds it.
 struct SimObject {
-    const ObjectSpec* spec = nullptr;
+    const ObjectSettings* spec = nullptr;
     TriangleMesh mesh;                           ///< object space
     std::shared_ptr<const RepulsionField> field; ///< null without repulsion
     double fieldSeconds = 0.0;                   ///< how long building and voxelizing the field took, wall clock
@@ -87,13 +87,13 @@ public:
 
     /// Loads or generates every mesh and builds and voxelizes the fields (in
     /// parallel), then spawns the clouds and runs their preroll
-    /// (SimulationOptions::preroll). Throws on bad input.
-    explicit Simulator(const SimulationSetup& setup, const Preparing& preparing = {});
+    /// (SolverSettings::preroll). Throws on bad input.
+    explicit Simulator(const SimulationSettings& setup, const Preparing& preparing = {});
     // Objects point into the setup it owns: no copies (restoreState() resets one).
     Simulator(const Simulator&) = delete;
     Simulator& operator=(const Simulator&) = delete;
 
-    const SimulationSetup& setup() const { return mSetup; }
+    const SimulationSettings& setup() const { return mSetup; }
     int frame() const { return mFrame; }
     /// Advances the state by one frame (1 / fps seconds). With dynamic
     /// objects, afterDynamicSubstep (if set) runs after each of their shared
@@ -163,7 +163,7 @@ private:
     FieldsAt fieldsAt(const Vec3d& p, double time, double mass, RepulsionField::Accessor* accessors, bool withForces) const;
     void advanceDynamicObjects(double t0, double t1, const std::function<void()>& afterSubstep);
     /// The uniform fields and turbulence acting on one object or cloud
-    /// (UniformFieldSpec::affects, TurbulenceSpec::affects).
+    /// (UniformFieldSettings::affects, TurbulenceSettings::affects).
     struct AccelerationFields {
         /// The sum of the leading uniform fields that act everywhere (no
         /// box), added in the scene's order as a substep would: the same to the bit.
@@ -174,7 +174,7 @@ private:
     /// What the uniform fields and turbulence accelerate at p at time t (seconds).
     Vec3d fieldAcceleration(const AccelerationFields& fields, const Vec3d& p, double t) const;
     void advanceParticles(double t0, double t1);
-    /// Dual rest (SimulationOptions::restPeriod): resets the rest position due
+    /// Dual rest (SolverSettings::restPeriod): resets the rest position due
     /// at the current frame and sets the blend between the two.
     void updateRestPositions();
     /// Contact of a particle's substep from -> x with the closed meshes
@@ -194,7 +194,7 @@ private:
     /// Per repulsive object (mRepulsive order): how fast its field moves this frame, world units / s.
     void measureFieldSpeeds(double t0, double t1);
 
-    SimulationSetup mSetup;
+    SimulationSettings mSetup;
     std::vector<SimObject> mObjects;
     std::vector<DynamicState> mStates, mStatesAtFrameStart;
     /// Per object: static and placed at the identity (the terrain, as a

@@ -26,22 +26,16 @@
 
 namespace vfield {
 
-struct TurbulenceSpec {
+struct TurbulenceSettings {
     std::string name = "turbulence";
-    /// World units/s^2 (0..1e6): the acceleration's root mean square over
-    /// space, all octaves together.
     double strength = 1.0;
-    /// World units (1e-3..1e6): the largest swirls' size, the first octave's wavelength.
-    double size = 10.0;
+    double size = 10.0; ///< the first octave's wavelength
     static constexpr int kMaxOctaves = 8;
-    int octaves = 3;        ///< (1..kMaxOctaves): each octave's swirls are half the size of the one before
-    double roughness = 0.5; ///< (0..1): each octave's amplitude relative to the one before
-    /// 1/s (0..1e3): how fast the swirls change, in their own sizes per
-    /// second (each octave's pattern slides that far down per second).
+    int octaves = 3;
+    double roughness = 0.5;
     double evolution = 0.2;
-    uint64_t seed = 1; ///< the pattern; mixed with nothing else
-    /// Names of the dynamic objects and clouds it acts on; empty: on everything that moves.
-    std::vector<std::string> affects;
+    uint64_t seed = 1;                ///< mixed with nothing else
+    std::vector<std::string> affects; ///< empty: everything that moves
 
     /// Whether it acts on the object or cloud of this name.
     bool acts(const std::string& name) const;
@@ -71,10 +65,10 @@ struct TurbulenceSpec {
     }
 };
 
-/// A TurbulenceSpec's acceleration field.
+/// A TurbulenceSettings's acceleration field.
 class Turbulence {
 public:
-    explicit Turbulence(const TurbulenceSpec& spec);
+    explicit Turbulence(const TurbulenceSettings& spec);
 
     /// The acceleration at p (world) at time t (seconds from the first
     /// frame), world units/s^2: a pure function of both, so any thread and
@@ -87,7 +81,7 @@ public:
     static constexpr double kSwirlRms = 1.2093;
 
 private:
-    TurbulenceSpec mSpec;
+    TurbulenceSettings mSpec;
     GradientNoise mNoise; ///< n and m: this one noise read at two offsets far apart
     double mScale = 0.0;  ///< strength over the octaves' combined root mean square
 };

@@ -6,7 +6,7 @@
 /// medium's two-lobe phase function and the sky's light reaching each sample
 /// through the cloud above it (the way to each marched near the sample, then
 /// read from an OpticalDepthMap), both in octaves of multiple scattering
-/// (MultipleScattering): light scattered many times brightens the cloud's
+/// (MultipleScatteringSettings): light scattered many times brightens the cloud's
 /// shadowed side and softens its shadow on the ground. Or, for the light
 /// scattered more than once, a frame's lattice traced by the reference's
 /// paths (ScatteredLightGrid).
@@ -82,7 +82,7 @@ public:
     float sunThrough(LightReaders& light, const Vec3d& p) const;
 
 private:
-    using OctavePhases = std::array<double, 8>; ///< MultipleScattering::octaves is at most 8
+    using OctavePhases = std::array<double, 8>; ///< MultipleScatteringSettings::octaves is at most 8
     /// The phase of each octave for light leaving along -dir.
     OctavePhases octavePhases(const Vec3d& dir) const;
     /// A light's transmittance through `depth` (OpticalDepthMap's units): 0 once under 0.001.

@@ -42,8 +42,7 @@ public:
 
     /// Rays traced together, as one of Embree's packets. Camera rays through
     /// neighbouring pixels, and their shadow rays towards the sun, are
-    /// coherent: on the showcase terrain a packet of 8 traced them 2.5 times
-    /// as fast as 8 rays one at a time.
+    /// coherent: a packet traces them faster than as many rays one at a time.
     static constexpr int kPacket = 8;
     /// found[i] = intersect(origins[i], dirs[i], tMin, tMax, hits[i]) for
     /// i < count <= kPacket, the same hits, traced as one packet.

@@ -10,6 +10,7 @@
 
 #include <vfield/render/cloud_lighting.h>
 #include <vfield/render/povray/povray_scene.h>
+#include <vfield/render/povray/povray_settings.h>
 #include <vfield/render/render_backend.h>
 
 #include <string>
@@ -17,20 +18,15 @@
 
 namespace vfield {
 
-struct PovrayBackendOptions {
-    std::string workFolder; ///< where scene files are written (OUT/povray-scene/)
-    bool keepScene = false; ///< keep the .pov, .inc and .df3 files
-    int threads = 1;        ///< POV-Ray's render threads (1: reproducible media noise)
-};
-
 class PovrayBackend : public RenderBackend {
 public:
     /// settings (image size and samples, sun, sky, medium, integrator) and
-    /// the meshes must outlive the back-end. Throws ValueError for settings
-    /// it cannot honour at all (a transparent sky), and FileError when
-    /// POV-Ray is not installed.
+    /// the meshes must outlive the back-end; povray.threads 0 stands for
+    /// `threads`. Scene files are written into workFolder, and kept there
+    /// with povray.keepScene. Throws ValueError for settings it cannot honour at all
+    /// (a transparent sky), and FileError when POV-Ray is not installed.
     PovrayBackend(std::vector<PovrayMesh> meshes, double terrainLow, double terrainHigh, const RenderSettings& settings,
-                  const PovrayBackendOptions& options);
+                  const PovraySettings& povray, std::string workFolder, int threads);
     ~PovrayBackend() override;
     PovrayBackend(const PovrayBackend&) = delete;
     PovrayBackend& operator=(const PovrayBackend&) = delete;
@@ -48,7 +44,9 @@ private:
     std::vector<PovrayMesh> mMeshes;
     double mTerrainLow, mTerrainHigh;
     const RenderSettings& mSettings;
-    PovrayBackendOptions mOptions;
+    PovraySettings mPovray;
+    std::string mWorkFolder;
+    bool mKeepScene;
     std::vector<int> mStaticObjects;
     bool mPrepared = false;
 };

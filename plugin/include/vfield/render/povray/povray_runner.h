@@ -5,6 +5,7 @@
 /// writing in its working folder, so it runs inside the scene's folder and
 /// writes its image there.
 
+#include <vfield/render/povray/povray_settings.h>
 #include <vfield/render/render_settings.h>
 
 #include <functional>

@@ -22,6 +22,7 @@
 #include <vfield/render/camera.h>
 #include <vfield/render/materials.h>
 #include <vfield/render/povray/df3.h>
+#include <vfield/render/povray/povray_settings.h>
 
 #include <vfield/core/transform.h>
 #include <vfield/mesh/triangle_mesh.h>
@@ -54,7 +55,8 @@ struct PovrayCloud {
 };
 
 struct PovrayFrame {
-    const RenderSettings* settings = nullptr; ///< sun, sky, medium; media samples from the integrator's volumeStep
+    const RenderSettings* settings = nullptr;     ///< sun, sky, medium; media samples from the integrator's volumeStep
+    PovrayQuality quality = PovrayQuality::Final; ///< preview takes fewer media samples
     Camera camera{Vec3d(0, 0, 1), Vec3d(0.0), Vec3d(0, 1, 0), 45, 1, 1};
     int frame = 0;
     std::string meshInclude;               ///< povrayMeshesText's file, relative to the scene file

@@ -1,0 +1,134 @@
+#include <vfield/folder/tracks.h>
+
+#include <vfield/core/error.h>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <iterator>
+
+namespace vfield {
+
+namespace {
+
+nlohmann::json vec(const Vec3d& v) { return {v[0], v[1], v[2]}; }
+Vec3d vecFromJson(const nlohmann::json& j) { return Vec3d(j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()); }
+
+nlohmann::json objectsToJson(const std::map<std::string, std::vector<TrackEntry>>& objects)
+{
+    nlohmann::json json = nlohmann::json::object();
+    for (const auto& [name, entries] : objects) {
+        nlohmann::json& track = json[name];
+        for (const TrackEntry& e : entries) {
+            const Quatd& q = e.pose.rotation;
+            // Transform::matrix() multiplies row vectors (OpenVDB's way); the
+            // file states the column-vector form that most hosts take.
+            const Mat4d m = e.pose.matrix();
+            nlohmann::json matrix = nlohmann::json::array();
+            for (int row = 0; row < 4; ++row)
+                for (int col = 0; col < 4; ++col) matrix.push_back(m(col, row));
+            track.push_back({{"frame", e.frame},
+                             {"position", vec(e.pose.translation)},
+                             {"orientation", {q.x(), q.y(), q.z(), q.w()}},
+                             {"scale", e.pose.scale},
+                             {"matrix", matrix},
+                             {"velocity", vec(e.velocity)}});
+        }
+    }
+    return json;
+}
+
+std::map<std::string, std::vector<TrackEntry>> objectsFromJson(const nlohmann::json& json)
+{
+    std::map<std::string, std::vector<TrackEntry>> objects;
+    for (const auto& [name, entries] : json.items())
+        for (const nlohmann::json& e : entries) {
+            TrackEntry entry;
+            entry.frame = e.at("frame").get<int>();
+            const auto q = e.at("orientation").get<std::vector<double>>();
+            entry.pose.translation = vecFromJson(e.at("position"));
+            entry.pose.rotation = Quatd(q.at(0), q.at(1), q.at(2), q.at(3));
+            entry.pose.scale = e.at("scale").get<double>();
+            entry.velocity = vecFromJson(e.at("velocity"));
+            objects[name].push_back(entry);
+        }
+    return objects;
+}
+
+constexpr const char* kTracksConvention =
+    "object-to-world transform of the mesh that export-mesh writes in object space: world = position + "
+    "orientation * (scale * p); position: the object's pivot (its mesh's origin) in world space; orientation: "
+    "unit quaternion [x, y, z, w] rotating object space (nose +x, up +y) into world space; scale: uniform; "
+    "matrix: the same transform as a 4x4 matrix, 16 numbers row by row, for column vectors "
+    "(world = M [x, y, z, 1]^T, translation in the last column); velocity: world units per second";
+
+} // namespace
+
+void Tracks::add(const std::string& object, int frame, const DynamicState& state)
+{
+    mObjects[object].push_back({frame, state.pose, state.velocity});
+}
+
+void Tracks::keepUpTo(int frame)
+{
+    for (auto& [name, entries] : mObjects)
+        entries.erase(std::remove_if(entries.begin(), entries.end(), [frame](const TrackEntry& e) { return e.frame > frame; }),
+                      entries.end());
+}
+
+const TrackEntry& Tracks::at(const std::string& object, int frame) const
+{
+    const auto o = mObjects.find(object);
+    if (o != mObjects.end())
+        for (const TrackEntry& e : o->second)
+            if (e.frame == frame) return e;
+    throw FileError(mPath, "no pose of \"" + object + "\" at frame " + std::to_string(frame));
+}
+
+std::vector<Transform> Tracks::path(const std::string& object, int frame) const
+{
+    std::vector<TrackEntry> entries;
+    if (const auto o = mObjects.find(object); o != mObjects.end())
+        std::copy_if(o->second.begin(), o->second.end(), std::back_inserter(entries),
+                     [frame](const TrackEntry& e) { return e.frame <= frame; });
+    std::sort(entries.begin(), entries.end(), [](const TrackEntry& a, const TrackEntry& b) { return a.frame < b.frame; });
+    if (entries.empty() || entries.back().frame != frame)
+        throw FileError(mPath, "no pose of \"" + object + "\" at frame " + std::to_string(frame));
+    std::vector<Transform> poses;
+    for (const TrackEntry& e : entries) poses.push_back(e.pose);
+    return poses;
+}
+
+std::string Tracks::toJsonText(double fps) const
+{
+    const nlohmann::json json = {{"fps", fps}, {"convention", kTracksConvention}, {"objects", objectsToJson(mObjects)}};
+    return json.dump(1) + "\n";
+}
+
+std::string Tracks::objectsJsonText() const { return objectsToJson(mObjects).dump(); }
+
+Tracks Tracks::fromObjectsJsonText(const std::string& text, const std::string& path)
+{
+    Tracks tracks;
+    tracks.mPath = path;
+    try {
+        tracks.mObjects = objectsFromJson(nlohmann::json::parse(text));
+    } catch (const nlohmann::json::exception& e) {
+        throw FileError(path, std::string("unreadable tracks: ") + e.what());
+    }
+    return tracks;
+}
+
+Tracks Tracks::fromJsonText(const std::string& text, const std::string& path)
+{
+    Tracks tracks;
+    tracks.mPath = path;
+    try {
+        tracks.mObjects = objectsFromJson(nlohmann::json::parse(text).at("objects"));
+    } catch (const nlohmann::json::exception& e) {
+        throw FileError(path, std::string("unreadable tracks: ") + e.what());
+    }
+    return tracks;
+}
+
+} // namespace vfield

@@ -1,0 +1,85 @@
+#pragma once
+/// @file field_writer.h
+/// A struct written as a scene file holds it, from its declaration.
+
+#include <vfield/core/field_traits.h>
+
+namespace vfield {
+
+/// A struct as a scene file writes it: every field that applies.
+class FieldWriter {
+public:
+    explicit FieldWriter(nlohmann::json& object) : mObject(object) {}
+
+    template<typename T>
+    void operator()(const Field<T>& f)
+    {
+        if (!f.applies()) return;
+        using V = detail::Plain<T>;
+        if constexpr (detail::IsProxy<V>::value) {
+            mObject[f.key()] = proxyToJson(f.ref());
+        } else if constexpr (detail::IsOptional<V>::value) {
+            if (*f.ref()) mObject[f.key()] = valueToJson(**f.ref());
+            else if (f.acceptsBoolean()) mObject[f.key()] = false;
+        } else if constexpr (std::is_same_v<V, bool>) {
+            mObject[f.key()] = f.trueName() ? nlohmann::json(*f.ref() ? f.trueName() : f.falseName()) : nlohmann::json(*f.ref());
+        } else {
+            mObject[f.key()] = valueToJson(*f.ref());
+        }
+    }
+    template<typename S>
+    void operator()(const InlineFields<S>& section)
+    {
+        S::visitFields(*section.value, *this);
+    }
+    template<typename Declare>
+    void operator()(const Group<Declare>& g)
+    {
+        nlohmann::json nested = nlohmann::json::object();
+        FieldWriter writer(nested);
+        g.declare(writer);
+        mObject[g.key] = nested;
+    }
+
+private:
+    template<typename X>
+    static nlohmann::json valueToJson(const X& value)
+    {
+        if constexpr (kHasFields<X>) {
+            nlohmann::json object = nlohmann::json::object();
+            FieldWriter writer(object);
+            X::visitFields(value, writer);
+            return object;
+        } else if constexpr (detail::IsSectionList<X>::value) {
+            nlohmann::json array = nlohmann::json::array();
+            for (const auto& item : value) array.push_back(valueToJson(item));
+            return array;
+        } else {
+            return detail::leafToJson(value);
+        }
+    }
+    template<typename X>
+    static nlohmann::json proxyToJson(const PairRef<X>& pair)
+    {
+        return {*pair.first, *pair.second};
+    }
+    template<typename X>
+    static nlohmann::json proxyToJson(const UniformRef<X>& uniform)
+    {
+        return (*uniform.vector)[0];
+    }
+
+    nlohmann::json& mObject;
+};
+
+/// The struct's fields that apply, as a JSON object a scene file could hold.
+template<typename T>
+nlohmann::json fieldsToJson(const T& value)
+{
+    nlohmann::json object = nlohmann::json::object();
+    FieldWriter writer(object);
+    T::visitFields(value, writer);
+    return object;
+}
+
+} // namespace vfield

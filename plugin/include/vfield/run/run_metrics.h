@@ -1,0 +1,49 @@
+#pragma once
+/// @file run_metrics.h
+/// A simulation folder (sim_folder.h) -> what a comparison of repulsion
+/// methods reports about it: the guarantees (penetrations, clearances), the
+/// quality of the motion (smoothness, stalls) and the cost (the fields' build
+/// time and memory, substeps). Read from the folder's files only: stats.json,
+/// tracks.json and the particles.####.vdb of every frame.
+
+#include <vfield/folder/sim_folder.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace vfield {
+
+/// A dynamic object's path, from its velocity at every frame.
+struct ObjectMotion {
+    std::string name;
+    double cruiseSpeed = 0.0;   ///< median speed over the frames, world units / s
+    double meanJerk = 0.0;      ///< mean |d^3 x / dt^3| by finite differences of the frames, world units / s^3
+    double peakJerk = 0.0;      ///< largest of those
+    double stallSeconds = 0.0;  ///< time spent below 10% of the cruise speed in spells longer than a second
+    double minClearance = 0.0;  ///< closest approach to any other object over all substeps, world units
+    bool clearanceExact = true; ///< false: minClearance is the level sets' lower bound (farther apart)
+};
+
+struct RunMetrics {
+    std::string folder;
+    std::vector<FieldRecord> fields;
+    int frames = 0;
+    uint64_t particles = 0;     ///< alive at the first frame
+    uint64_t penetrations = 0;  ///< particle samples inside an object, all frames
+    double minClearance = 0.0;  ///< particles, over all frames, world units
+    double meanClearance = 0.0; ///< particles, over all frames (ClearanceStats::mean)
+    double meanCurvature = 0.0; ///< of the particles' paths, radians per world unit (frame to frame)
+    /// Particles below 10% of the median speed for over a second, at any time,
+    /// counted while the median particle moves at least its diameter a second
+    uint64_t trapped = 0;
+    double substepsPerParticleFrame = 0.0;
+    double simulateSeconds = 0.0;      ///< wall clock of all frames (FrameRecord::seconds), field builds excluded
+    uint64_t contacts = 0;             ///< particle contacts with dynamic objects (StepStats)
+    std::vector<ObjectMotion> objects; ///< dynamic objects, by name
+};
+
+/// Throws FileError for a folder without a simulation or with unreadable files.
+RunMetrics measureRun(const std::string& folder);
+
+} // namespace vfield

@@ -1,0 +1,344 @@
+#pragma once
+/// @file paths.h
+/// Within libvfield's Embree renderer: the reference's paths through a frame
+/// (PathTracer), over the cloud as they see it (Medium: delta and ratio
+/// tracking under a grid of majorants), shared by the reference integrator
+/// (path_tracer.cpp) and the fast one's light gathered from its paths
+/// (scattered_light.cpp).
+
+#include <vfield/core/trilinear_sampler.h>
+#include <vfield/render/embree/camera_samples.h>
+#include <vfield/render/embree/renderer.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+
+namespace vfield {
+
+inline constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+/// A unit vector at angle acos(cosTheta) from unit axis, turned by 2 pi u about it.
+inline Vec3d aroundAxis(const Vec3d& axis, double cosTheta, double u)
+{
+    const Vec3d helper = std::abs(axis[0]) < 0.9 ? Vec3d(1, 0, 0) : Vec3d(0, 1, 0);
+    const Vec3d tangent = axis.cross(helper).unitSafe(), bitangent = axis.cross(tangent);
+    const double sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta)), phi = 2.0 * M_PI * u;
+    return (tangent * (sinTheta * std::cos(phi)) + bitangent * (sinTheta * std::sin(phi)) + axis * cosTheta).unitSafe();
+}
+
+/// The cosine between the directions of propagation before and after
+/// scattering, drawn from Henyey-Greenstein with eccentricity g.
+inline double sampleHenyeyGreenstein(double g, double u)
+{
+    if (std::abs(g) < 1e-3) return 1.0 - 2.0 * u;
+    const double s = (1.0 - g * g) / (1.0 - g + 2.0 * g * u);
+    return std::clamp((1.0 + g * g - s * s) / (2.0 * g), -1.0, 1.0);
+}
+
+/// The largest extinction that a trilinear read of the density can give in
+/// each cell of a grid over the cloud's box (cells kMajorantVoxels voxels
+/// wide, wider where they would exceed kMaxMajorantCells), and a walk along a
+/// ray through the cells (Amanatides and Woo's DDA), as pbrt-v4's majorant
+/// grid: free paths are drawn cell by cell under a bound near the density
+/// they cross, and skip the empty ones. Under one majorant for the whole box
+/// they stepped through the empty air around a sparse cloud, and through its
+/// thin parts, at the pace of its densest voxel.
+class MajorantGrid {
+public:
+    static constexpr int kMajorantVoxels = 4;
+    static constexpr std::size_t kMaxMajorantCells = std::size_t(1) << 22;
+
+    MajorantGrid(const openvdb::FloatGrid& density, const BBoxd& box, double extinction) : mOrigin(box.min())
+    {
+        const double voxel = density.voxelSize()[0];
+        for (mCell = kMajorantVoxels * voxel;; mCell *= 2.0) {
+            for (int axis = 0; axis < 3; ++axis) mCells[axis] = std::max(1, int(std::ceil(box.extents()[axis] / mCell)));
+            if (latticeSize(mCells) <= kMaxMajorantCells) break;
+        }
+        mMajorant.assign(latticeSize(mCells), 0.0f);
+        // A value (a voxel, or a tile's voxels) reaches reads within a voxel of it.
+        for (auto value = density.cbeginValueOn(); value; ++value) {
+            if (*value <= 0.0f) continue;
+            const openvdb::CoordBBox voxels = value.getBoundingBox();
+            const Vec3d lo = density.indexToWorld(voxels.min()) - Vec3d(voxel),
+                        hi = density.indexToWorld(voxels.max()) + Vec3d(voxel);
+            std::array<int, 3> from, to;
+            for (int axis = 0; axis < 3; ++axis) {
+                from[axis] = std::clamp(int(std::floor((lo[axis] - mOrigin[axis]) / mCell)), 0, mCells[axis] - 1);
+                to[axis] = std::clamp(int(std::floor((hi[axis] - mOrigin[axis]) / mCell)), 0, mCells[axis] - 1);
+            }
+            const float sigma = float(extinction * *value);
+            for (int k = from[2]; k <= to[2]; ++k)
+                for (int j = from[1]; j <= to[1]; ++j)
+                    for (int i = from[0]; i <= to[0]; ++i) {
+                        float& majorant = mMajorant[index(i, j, k)];
+                        majorant = std::max(majorant, sigma);
+                    }
+        }
+    }
+
+    /// Calls segment(from, to, majorant) for the cells that origin + t dir
+    /// (dir unit) crosses for t in [tMin, tMax) (within the box), in order,
+    /// skipping cells with nothing in them, while it returns true.
+    template<typename Segment>
+    void walk(const Vec3d& origin, const Vec3d& dir, double tMin, double tMax, const Segment& segment) const
+    {
+        std::array<int, 3> cell, step;
+        std::array<double, 3> next, delta;
+        const Vec3d start = (origin + dir * tMin - mOrigin) / mCell;
+        for (int axis = 0; axis < 3; ++axis) {
+            cell[axis] = std::clamp(int(std::floor(start[axis])), 0, mCells[axis] - 1);
+            if (dir[axis] == 0.0) {
+                step[axis] = 0;
+                next[axis] = delta[axis] = kInfinity;
+                continue;
+            }
+            step[axis] = dir[axis] > 0.0 ? 1 : -1;
+            const double boundary = mOrigin[axis] + (cell[axis] + (dir[axis] > 0.0 ? 1 : 0)) * mCell;
+            next[axis] = (boundary - origin[axis]) / dir[axis];
+            delta[axis] = mCell / std::abs(dir[axis]);
+        }
+        for (double t = tMin; t < tMax;) {
+            const int axis = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
+            const double exit = std::min(next[axis], tMax);
+            const float majorant = mMajorant[index(cell[0], cell[1], cell[2])];
+            if (majorant > 0.0f && exit > t && !segment(t, exit, double(majorant))) return;
+            t = exit;
+            cell[axis] += step[axis];
+            if (cell[axis] < 0 || cell[axis] >= mCells[axis]) return;
+            next[axis] += delta[axis];
+        }
+    }
+
+private:
+    std::size_t index(int i, int j, int k) const
+    {
+        return (std::size_t(k) * std::size_t(mCells[1]) + std::size_t(j)) * std::size_t(mCells[0]) + std::size_t(i);
+    }
+
+    Vec3d mOrigin;
+    double mCell = 1.0;
+    std::array<int, 3> mCells{1, 1, 1};
+    std::vector<float> mMajorant; ///< extinction, 1 / world units
+};
+
+/// The cloud as paths see it: sigma_t = extinction x the density read
+/// trilinearly, free paths drawn under the majorant grid's bounds.
+class Medium {
+public:
+    /// Reads the density as the fast integrator's march does.
+    using Density = TrilinearSampler<openvdb::FloatTree>;
+
+    Medium(const CloudVolume* volume, const MediumSettings& settings) : mExtinction(settings.extinction)
+    {
+        if (!volume || volume->empty() || mExtinction <= 0.0) return;
+        mLighting = &volume->lighting();
+        mMajorants.emplace(mLighting->density(), mLighting->bounds(), mExtinction);
+    }
+    bool present() const { return mMajorants.has_value(); }
+    Density density() const { return Density(mLighting->density().tree()); }
+
+    /// Delta tracking along origin + t dir (dir unit), t in [tMin, tMax): the
+    /// distance of the first real collision, if there is one.
+    std::optional<double> collision(Density& density, const Vec3d& origin, const Vec3d& dir, double tMin, double tMax,
+                                    SampleRandom& random) const
+    {
+        std::optional<double> hit;
+        if (!present() || !mLighting->clip(origin, dir, tMin, tMax)) return hit;
+        mMajorants->walk(origin, dir, tMin, tMax, [&](double from, double to, double majorant) {
+            for (double t = from;;) {
+                t -= std::log(1.0 - random.next()) / majorant;
+                if (t >= to) return true;
+                if (random.next() * majorant < sigmaT(density, origin + dir * t)) {
+                    hit = t;
+                    return false;
+                }
+            }
+        });
+        return hit;
+    }
+
+    /// Ratio tracking: an unbiased estimate of the transmittance along
+    /// origin + t dir, t in [tMin, tMax).
+    double transmittance(Density& density, const Vec3d& origin, const Vec3d& dir, double tMin, double tMax,
+                         SampleRandom& random) const
+    {
+        double transmittance = 1.0;
+        if (!present() || !mLighting->clip(origin, dir, tMin, tMax)) return transmittance;
+        mMajorants->walk(origin, dir, tMin, tMax, [&](double from, double to, double majorant) {
+            for (double t = from;;) {
+                t -= std::log(1.0 - random.next()) / majorant;
+                if (t >= to) return true;
+                transmittance *= 1.0 - sigmaT(density, origin + dir * t) / majorant;
+                if (transmittance < 0.1) { // Russian roulette: what survives carries the rest
+                    if (random.next() < 0.5) {
+                        transmittance = 0.0;
+                        return false;
+                    }
+                    transmittance *= 2.0;
+                }
+            }
+        });
+        return transmittance;
+    }
+
+private:
+    double sigmaT(Density& density, const Vec3d& p) const
+    {
+        return mExtinction * std::max(0.0f, density.atIndex(mLighting->density().transform().worldToIndex(p)));
+    }
+
+    const CloudLighting* mLighting = nullptr;
+    double mExtinction;
+    std::optional<MajorantGrid> mMajorants;
+};
+
+/// The reference's paths through a frame: one instance per tile or task (its
+/// density sampler caches tree nodes and is not shared between threads).
+class PathTracer {
+public:
+    /// How a vertex takes the sun's light through the cloud: by ratio
+    /// tracking (unbiased), or as the fast integrator's march does (a few
+    /// times cheaper; its single scattering is the reference's within 1-2%),
+    /// surfaces' shadows on scattering points included.
+    enum class SunThroughCloud { RatioTracking, AsTheMarch };
+
+    PathTracer(const FrameToRender& f, const Medium& medium, SunThroughCloud sunThroughCloud = SunThroughCloud::RatioTracking)
+        : mFrame(f), mSettings(*f.settings), mMedium(medium), mToSun(mSettings.sun.direction.unitSafe()),
+          mSunRadiance(mSettings.sun.color * mSettings.sun.intensity), mSunThroughCloud(sunThroughCloud)
+    {
+        if (!medium.present()) return;
+        mDensity.emplace(medium.density());
+        if (sunThroughCloud == SunThroughCloud::AsTheMarch) mLight.emplace(*f.volume);
+    }
+
+    /// Where a path leaves its first vertex: the camera, or a point where it
+    /// has just scattered in the cloud.
+    enum class Start { Camera, Scattered };
+
+    /// The radiance carried back along the path that leaves `origin` along
+    /// `dir` (unit). From the camera, `seen` receives the first surface's
+    /// depth, and the result is what the camera sees (the sky's glow, haze);
+    /// from a scattering point, it is the light of the path's later vertices
+    /// alone, weight 1 after that scattering.
+    Vec3d radiance(Vec3d origin, Vec3d dir, Start start, SampleRandom& random, CameraSample* seen = nullptr)
+    {
+        const RenderSettings& s = mSettings;
+        const bool fromCamera = start == Start::Camera;
+        Vec3d radiance(0.0), weight(1.0);
+        double firstDistance = -1.0; // of the camera ray's event; none: the sky
+        for (int events = fromCamera ? 0 : 1;;) {
+            const bool cameraRay = fromCamera && events == 0;
+            SurfaceHit hit;
+            bool isSurface = false;
+            const std::optional<double> scatter = nextEvent(origin, dir, cameraRay, random, hit, isSurface);
+            if (cameraRay) {
+                if (isSurface && seen) seen->depth = float(hit.distance);
+                if (scatter || isSurface) firstDistance = scatter ? *scatter : hit.distance;
+            }
+            if (scatter) {
+                const Vec3d p = origin + dir * *scatter;
+                weight *= s.medium.albedo;
+                radiance += weight * mSunRadiance * (s.medium.phase(dir.dot(mToSun)) * sunAtScattering(p, random));
+                if (++events >= s.integrator.maxBounces) break;
+                dir = scatteredDirection(dir, random);
+                origin = p;
+            } else if (isSurface) {
+                // Seen from the camera, the noise as fine as its pixel (as the fast integrator draws it).
+                const SurfaceShading surface = cameraRay
+                                                   ? surfaceShading(mFrame, hit,
+                                                                    surfaceNoise(surfaceMaterial(mFrame, hit.object),
+                                                                                 hit.position, pixelFootprint(mFrame, hit, dir)))
+                                                   : surfaceShading(mFrame, hit);
+                const Vec3d offset = hit.position + hit.geometricNormal * 1e-3 * (1.0 + hit.distance);
+                const double cosSun = surface.normal.dot(mToSun);
+                if (cosSun > 0.0)
+                    radiance += weight * surface.albedo * mSunRadiance * (cosSun / M_PI * sunReaching(offset, random));
+                weight *= surface.albedo;
+                if (++events >= s.integrator.maxBounces) break;
+                // Cosine-distributed about the shading normal: the weight keeps albedo alone.
+                const double u = random.next();
+                dir = aroundAxis(surface.normal, std::sqrt(u), random.next());
+                if (dir.dot(hit.geometricNormal) <= 0.0) break; // into the surface: absorbed
+                origin = offset;
+            } else {
+                // Escaped: the camera sees the sky with the sun's glow; light
+                // paths find only the dome (the sun is sampled at every event).
+                if (!cameraRay) radiance += weight * skyDomeRadiance(s.sky, dir);
+                else if (!s.image.transparentSky) radiance = skyRadiance(s, dir);
+                break;
+            }
+            if (events >= 3) { // Russian roulette on the path's weight
+                const double survive = std::clamp(std::max({weight[0], weight[1], weight[2]}), 0.05, 1.0);
+                if (random.next() >= survive) break;
+                weight /= survive;
+            }
+        }
+        if (!fromCamera) return radiance;
+        if (seen) seen->alpha = firstDistance >= 0.0 || !s.image.transparentSky ? 1.0 : 0.0;
+        return firstDistance >= 0.0 ? throughHaze(s.sky, radiance, firstDistance) : radiance;
+    }
+
+    /// A direction after scattering off the medium, drawn from its two-lobe phase function.
+    Vec3d scatteredDirection(const Vec3d& dir, SampleRandom& random) const
+    {
+        const bool backLobe = random.next() < mSettings.medium.backWeight;
+        const double g = backLobe ? mSettings.medium.backAnisotropy : mSettings.medium.anisotropy;
+        const double cosTheta = sampleHenyeyGreenstein(g, random.next());
+        return aroundAxis(dir, cosTheta, random.next());
+    }
+
+private:
+    /// The first event along origin + t dir: a collision in the medium (its
+    /// distance), or else the first surface (hit, isSurface), or neither.
+    /// Within the cloud most free paths end before any surface, so after the
+    /// camera ray the collision is drawn first and only the segment up to it
+    /// is tested for a surface (any hit, bounded: a fraction of a full
+    /// intersection's cost); delta tracking's tentative collisions do not
+    /// depend on where it stops, so a surface before the collision is the
+    /// same event as a walk stopped at the surface. The camera ray intersects
+    /// first, for the depth of what it sees.
+    std::optional<double> nextEvent(const Vec3d& origin, const Vec3d& dir, bool cameraRay, SampleRandom& random, SurfaceHit& hit,
+                                    bool& isSurface)
+    {
+        if (cameraRay || !mDensity) {
+            isSurface = mFrame.surfaces->intersect(origin, dir, 0.0, kInfinity, hit);
+            if (!mDensity) return std::nullopt;
+            return mMedium.collision(*mDensity, origin, dir, 0.0, isSurface ? hit.distance : kInfinity, random);
+        }
+        const std::optional<double> scatter = mMedium.collision(*mDensity, origin, dir, 0.0, kInfinity, random);
+        if (scatter && !mFrame.surfaces->occluded(origin, dir, 0.0, *scatter)) return scatter;
+        isSurface = mFrame.surfaces->intersect(origin, dir, 0.0, kInfinity, hit);
+        return scatter && !(isSurface && hit.distance < *scatter) ? scatter : std::nullopt;
+    }
+
+    /// The sun's light reaching p, a scattering point in the cloud. Taken as
+    /// the march takes it, surfaces' shadows come from CloudLighting's grid
+    /// instead of a ray to the sun at every event.
+    double sunAtScattering(const Vec3d& p, SampleRandom& random)
+    {
+        if (mSunThroughCloud == SunThroughCloud::AsTheMarch) return mFrame.volume->sunThrough(*mLight, p);
+        return sunReaching(p, random);
+    }
+
+    /// The sun's light reaching p (offset off any surface) through surfaces and cloud.
+    double sunReaching(const Vec3d& p, SampleRandom& random)
+    {
+        if (mFrame.surfaces->occluded(p, mToSun, 0.0, kInfinity)) return 0.0;
+        if (!mDensity) return 1.0;
+        if (mSunThroughCloud == SunThroughCloud::AsTheMarch) return mFrame.volume->sunThroughCloud(*mLight, p);
+        return mMedium.transmittance(*mDensity, p, mToSun, 0.0, kInfinity, random);
+    }
+
+    const FrameToRender& mFrame;
+    const RenderSettings& mSettings;
+    const Medium& mMedium;
+    Vec3d mToSun, mSunRadiance;
+    SunThroughCloud mSunThroughCloud;
+    std::optional<Medium::Density> mDensity;
+    std::optional<CloudVolume::LightReaders> mLight; ///< with SunThroughCloud::AsTheMarch
+};
+
+} // namespace vfield

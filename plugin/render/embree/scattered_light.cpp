@@ -1,0 +1,151 @@
+#include <vfield/render/embree/scattered_light.h>
+
+#include "paths.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <array>
+#include <vector>
+
+namespace vfield {
+
+ScatteredLightGrid traceScatteredLight(const FrameToRender& f)
+{
+    // Three colour channels a point, 192 MiB.
+    constexpr std::size_t kMaxLatticePoints = std::size_t(1) << 24;
+    const CloudLighting& lighting = f.volume->lighting();
+    const MultipleScatteringSettings& settings = f.settings->integrator.multipleScattering;
+    const BBoxd& box = lighting.bounds();
+    const Vec3d extent = box.extents();
+    double spacing = settings.pathSpacing * lighting.density().voxelSize()[0];
+    while (latticeSize(latticePoints(extent, spacing)) > kMaxLatticePoints) spacing *= 1.25; // coarser, within budget
+    const std::array<int, 3> points = latticePoints(extent, spacing);
+    ScatteredLightGrid grid;
+    for (DenseGrid& channel : grid.rgb) channel = DenseGrid(box.min(), spacing, points, 0.0f, 0.0f);
+    const DenseGrid& lattice = grid.rgb[0];
+    if (f.settings->integrator.maxBounces <= 1) return grid; // single scattering only: nothing more to add
+
+    // The reference's own camera paths, on a jittered grid over the part of
+    // the image where the cloud's box is: each goes to its first scattering
+    // in the cloud by delta tracking, where the march's samples weigh the
+    // cloud (transmittance x extinction), and on from there as the
+    // reference's paths go; what it carries back from its later vertices is
+    // the light the march needs at that point. Finding where a ray scatters
+    // costs a fraction of the path that follows: kRaysPerPath x pathsPerFrame
+    // rays are cast, and at most pathsPerFrame of those that scatter, evenly
+    // spread over them, go on. Their number does not depend on the image's
+    // resolution: a preview's lattice is the final frame's.
+    constexpr int kRaysPerPath = 4; // 80 bytes a ray: 320 MB at most (pathsPerFrame <= 1e6)
+    const ImageRegion region = f.camera.regionOf(box);
+    if (region.empty()) return grid;
+    const std::size_t paths = std::size_t(settings.pathsPerFrame);
+    const double rays = double(kRaysPerPath) * double(paths), aspect = region.width() / region.height();
+    const int columns = std::max(1, int(std::lround(std::sqrt(rays * aspect))));
+    const int rows = std::max(1, int(std::lround(rays / double(columns))));
+    struct Gathered {
+        Vec3d direction, position, light;
+    };
+    std::vector<std::optional<Gathered>> cast(std::size_t(columns) * std::size_t(rows));
+    // The grid's cells that some of the density's leaves or tiles (with the
+    // voxel around them that trilinear reads reach) cover on the image: a
+    // ray through any other cell meets no cloud and is not cast. Most rays
+    // over a cloud's box miss the cloud, and delta tracking walked each
+    // across the whole box.
+    std::vector<char> covered(cast.size(), 0);
+    {
+        const openvdb::FloatGrid& density = lighting.density();
+        const auto cover = [&](const openvdb::CoordBBox& voxels) {
+            const BBoxd world(density.indexToWorld(voxels.min().asVec3d() - Vec3d(1.0)),
+                              density.indexToWorld(voxels.max().asVec3d() + Vec3d(1.0)));
+            const ImageRegion seen = f.camera.regionOf(world);
+            if (seen.empty()) return;
+            const auto cell = [](double at, double from, double size, int cells) {
+                return std::clamp(int(std::floor((at - from) / size * cells)), 0, cells - 1);
+            };
+            const int i0 = cell(seen.x0, region.x0, region.width(), columns),
+                      i1 = cell(seen.x1, region.x0, region.width(), columns);
+            const int j0 = cell(seen.y0, region.y0, region.height(), rows), j1 = cell(seen.y1, region.y0, region.height(), rows);
+            for (int j = j0; j <= j1; ++j) std::fill_n(covered.begin() + std::ptrdiff_t(j) * columns + i0, i1 - i0 + 1, 1);
+        };
+        for (auto leaf = density.tree().cbeginLeaf(); leaf; ++leaf) cover(leaf->getNodeBoundingBox());
+        auto tile = density.tree().cbeginValueOn();
+        tile.setMaxDepth(openvdb::FloatTree::ValueOnCIter::LEAF_DEPTH - 1);
+        for (; tile; ++tile) cover(tile.getBoundingBox());
+    }
+    const Medium medium(f.volume, f.settings->medium);
+    // Streams apart from the camera's (frame, pixel, sample) ones.
+    const uint32_t stream = uint32_t(f.frame) ^ 0x9e3779b9u;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cast.size(), 256), [&](const tbb::blocked_range<std::size_t>& r) {
+        Medium::Density density = medium.density();
+        for (std::size_t n = r.begin(); n != r.end(); ++n) {
+            if (!covered[n]) continue;
+            SampleRandom random(stream, uint32_t(n), 0u);
+            const double x = region.x0 + (double(n % std::size_t(columns)) + random.next()) * region.width() / columns;
+            const double y = region.y0 + (double(n / std::size_t(columns)) + random.next()) * region.height() / rows;
+            const Vec3d origin = f.camera.position(), dir = f.camera.direction(x, y);
+            // A surface is looked for only before a collision, as the reference's paths do (nextEvent).
+            const std::optional<double> scatter = medium.collision(density, origin, dir, 0.0, kInfinity, random);
+            if (scatter && !f.surfaces->occluded(origin, dir, 0.0, *scatter))
+                cast[n] = Gathered{dir, origin + dir * *scatter, Vec3d(0.0)};
+        }
+    });
+    std::vector<std::size_t> scattered;
+    for (std::size_t n = 0; n < cast.size(); ++n)
+        if (cast[n]) scattered.push_back(n);
+    std::vector<std::size_t> going(std::min(paths, scattered.size())); // every (scattered / paths)-th, in the grid's order
+    for (std::size_t k = 0; k < going.size(); ++k) going[k] = scattered[k * scattered.size() / going.size()];
+    std::vector<Gathered> gathered(going.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, gathered.size(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
+        PathTracer tracer(f, medium, PathTracer::SunThroughCloud::AsTheMarch);
+        for (std::size_t k = r.begin(); k != r.end(); ++k) {
+            Gathered& path = gathered[k] = *cast[going[k]];
+            SampleRandom random(stream, uint32_t(going[k]), 1u);
+            path.light = tracer.radiance(path.position, tracer.scatteredDirection(path.direction, random),
+                                         PathTracer::Start::Scattered, random);
+        }
+    });
+
+    // Each lattice point takes the mean of the paths' light weighted as a
+    // trilinear read there would weigh it. The march reads the lattice where
+    // camera rays scatter, as often as the paths scattered there (its samples
+    // weigh the cloud as delta tracking does), so over the image its reads
+    // come to the paths' mean however coarse the lattice. Points that traced
+    // their own paths, interpolated, come out dark on a coarse lattice, the
+    // light's rise inside the lit surface cut across. Summed
+    // in the paths' order: the same lattice for any thread count. The sums
+    // go into the grid, then become means.
+    std::vector<float> weights(lattice.size(), 0.0f);
+    for (const Gathered& path : gathered)
+        lattice.forCorners(path.position, [&](std::size_t n, double weight) {
+            weights[n] += float(weight);
+            for (int c = 0; c < 3; ++c) grid.rgb[c][n] += float(weight * path.light[c]);
+        });
+    // A point no path came near takes its neighbours' mean: where the cloud
+    // is thin few paths scatter, and a point left at zero darkened the reads
+    // beside it. Such points are written and only the others read.
+    const auto channels = [&](std::size_t n) { return Vec3d(grid.rgb[0][n], grid.rgb[1][n], grid.rgb[2][n]); };
+    tbb::parallel_for(std::size_t(0), lattice.size(), [&](std::size_t n) {
+        if (weights[n] > 0.0f) return;
+        Vec3d sum(0.0);
+        double weight = 0.0;
+        const std::array<int, 3> ijk = lattice.point(n);
+        for (int neighbour = 0; neighbour < 27; ++neighbour) {
+            const int i = ijk[0] + neighbour % 3 - 1, j = ijk[1] + neighbour / 3 % 3 - 1, k = ijk[2] + neighbour / 9 - 1;
+            if (i < 0 || j < 0 || k < 0 || i >= points[0] || j >= points[1] || k >= points[2]) continue;
+            const std::size_t m = lattice.index(i, j, k);
+            if (weights[m] == 0.0f) continue;
+            weight += weights[m];
+            sum += channels(m);
+        }
+        if (weight > 0.0)
+            for (int c = 0; c < 3; ++c) grid.rgb[c][n] = float(sum[c] / weight);
+    });
+    tbb::parallel_for(std::size_t(0), lattice.size(), [&](std::size_t n) {
+        if (weights[n] > 0.0f)
+            for (int c = 0; c < 3; ++c) grid.rgb[c][n] /= weights[n];
+    });
+    return grid;
+}
+
+} // namespace vfield

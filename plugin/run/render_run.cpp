@@ -1,0 +1,192 @@
+#include <vfield/run/render_run.h>
+
+#include <vfield/core/error.h>
+#include <vfield/core/field_visitors.h>
+#include <vfield/core/frame_file.h>
+#include <vfield/folder/sim_folder.h>
+#include <vfield/render/camera.h>
+#include <vfield/run/render_backends.h>
+
+#include <vfield/core/atomic_file.h>
+#include <vfield/core/hash.h>
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <optional>
+
+namespace fs = std::filesystem;
+
+namespace vfield {
+
+namespace {
+
+/// What a frame's images depend on besides its simulation: every render
+/// setting and the POV-Ray back-end's own, every surface's material, the
+/// back-end and the formats. A frame
+/// rendered with another stamp is stale (a killed 1280x720 run must not leave
+/// its frames among a 960x540 rerun's).
+uint64_t renderStamp(const RenderSettings& s, const PovraySettings& povray, const std::map<int, SurfaceMaterial>& materials,
+                     const RenderRunOptions& options)
+{
+    ContentHash h;
+    h.addValue(s.hash());
+    hashFields(h, povray);
+    for (const auto& [object, material] : materials) {
+        h.addValue(int64_t(object));
+        h.addValue(int64_t(material.kind));
+        h.addValue(material.paint);
+    }
+    h.add(options.backend);
+    for (const std::string& format : options.formats) h.add(format);
+    return h.value();
+}
+
+} // namespace
+
+RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDir, const std::string& outputDir,
+                             const RenderRunOptions& options)
+{
+    const SimulationSettings& setup = scene.simulation;
+    const int first = options.firstFrame.value_or(setup.firstFrame), last = options.lastFrame.value_or(setup.lastFrame);
+    if (first < setup.firstFrame || last > setup.lastFrame || last < first)
+        throw ValueError("frames " + std::to_string(first) + "-" + std::to_string(last) + " are not within the scene's " +
+                         std::to_string(setup.firstFrame) + "-" + std::to_string(setup.lastFrame));
+    const RenderSettings& settings = scene.render;
+    settings.validate();
+    const FolderLock lock(outputDir, "vfield render", options.waitForFolder);
+    const auto waitForFrame = [&](int frame) {
+        if (options.waitForFrame) options.waitForFrame(frame);
+    };
+    waitForFrame(first);
+    if (!fs::is_directory(simulationDir)) throw FileError(simulationDir, "no such simulation folder");
+    const SimFolder simulation(simulationDir);
+    // Every frame rendered must have been made by the folder's simulation.
+    const uint64_t inputsHash = simulation.readStats().inputsHash;
+
+    // Surfaces once: static meshes into one BVH, dynamic ones as instances.
+    // Embree places a following camera and shadows the cloud for every back-end.
+    SurfaceScene surfaces;
+    std::map<int, SurfaceMaterial> materials;
+    bool anyDynamic = false;
+    std::vector<TriangleMesh> meshes;
+    for (std::size_t i = 0; i < setup.objects.size(); ++i) meshes.push_back(makeMesh(setup.objects[i].mesh));
+    for (std::size_t i = 0; i < setup.objects.size(); ++i) {
+        const ObjectSettings& object = setup.objects[i];
+        if (object.isDynamic) {
+            surfaces.addDynamic(int(i), meshes[i]);
+            anyDynamic = true;
+        } else {
+            surfaces.addStatic(int(i), meshes[i], object.transform);
+        }
+        materials[int(i)] = surfaceMaterialOf(object);
+    }
+    // Read again for each frame while the simulation is still writing them.
+    Tracks tracks = anyDynamic ? simulation.readTracks() : Tracks();
+    BBoxd terrainHeights(Vec3d(0.0), Vec3d(1.0));
+    if (!surfaces.staticBounds().empty()) terrainHeights = surfaces.staticBounds();
+
+    BackendInputs backendSetup;
+    backendSetup.scene = &scene;
+    backendSetup.meshes = &meshes;
+    backendSetup.materials = &materials;
+    backendSetup.surfaces = &surfaces;
+    backendSetup.terrainLow = terrainHeights.min()[1];
+    backendSetup.terrainHigh = terrainHeights.max()[1];
+    backendSetup.outputDir = outputDir;
+    backendSetup.formats = options.formats;
+    const std::unique_ptr<RenderBackend> backend = makeRenderBackend(options.backend, backendSetup);
+    if (options.warning)
+        for (const std::string& line : backend->cannotDraw(settings)) options.warning(line);
+
+    const int width = settings.image.width, height = settings.image.height;
+    const FirstSurfaceQuery firstSurface = [&surfaces](const Vec3d& origin, const Vec3d& dir, double tMin, double tMax) {
+        SurfaceHit hit;
+        return surfaces.intersect(origin, dir, tMin, tMax, hit) ? std::optional<double>(hit.distance) : std::nullopt;
+    };
+    const CloudLighting::Occlusion sunBlocked = [&surfaces](const Vec3d& origin, const Vec3d& dir) {
+        return surfaces.occluded(origin, dir, 1e-3, std::numeric_limits<double>::max());
+    };
+
+    // Each finished frame's stamp, beside the frames; unreadable: none finished.
+    const fs::path out(outputDir);
+    const std::string stampsPath = (out / "render-stamps.json").string();
+    const std::string stamp = std::to_string(renderStamp(settings, scene.povray, materials, options));
+    nlohmann::json stamps = nlohmann::json::object();
+    if (fs::exists(stampsPath)) {
+        std::ifstream in(stampsPath);
+        stamps = nlohmann::json::parse(in, nullptr, false);
+        if (!stamps.is_object()) stamps = nlohmann::json::object();
+    }
+
+    RenderRunSummary summary;
+    double seconds = 0.0;
+    bool prepared = false;
+    const int total = last - first + 1;
+    for (int f = first; f <= last; ++f) {
+        waitForFrame(f);
+        if (anyDynamic && options.waitForFrame && f > first) tracks = simulation.readTracks();
+        // Finished: rendered with these settings, and every output exists and
+        // is newer than the frame's simulation (a frame simulated again since,
+        // after an edit of the scene, is stale).
+        const auto writeTime = [](const std::string& path) {
+            std::error_code ec;
+            const fs::file_time_type time = fs::last_write_time(path, ec);
+            return ec ? fs::file_time_type::min() : time;
+        };
+        const fs::file_time_type simulated = writeTime(simulation.densityFile(f));
+        const std::vector<std::string> outputs = backend->frameFiles(outputDir, f);
+        const bool done = stamps.value(std::to_string(f), std::string()) == stamp &&
+                          std::all_of(outputs.begin(), outputs.end(),
+                                      [&](const std::string& p) { return fs::exists(p) && writeTime(p) >= simulated; });
+        if (done && !options.force) {
+            ++summary.skipped;
+            continue;
+        }
+        const auto start = std::chrono::steady_clock::now();
+        const auto frameProgress = [&](double fraction) {
+            if (options.frameProgress) options.frameProgress(f, summary.rendered + summary.skipped, total, fraction);
+        };
+        // A frame the simulation did not make is refused before anything is said or prepared.
+        const openvdb::FloatGrid::Ptr density = simulation.readDensity(f, inputsHash);
+        frameProgress(0.0);
+        if (!prepared) backend->prepare();
+        prepared = true;
+
+        FrameView view;
+        view.frame = f;
+        std::vector<Transform> followedPath;
+        for (std::size_t i = 0; i < setup.objects.size(); ++i) {
+            const ObjectSettings& object = setup.objects[i];
+            if (!object.isDynamic) continue;
+            const Transform pose = tracks.pose(object.name, f);
+            surfaces.setPose(int(i), pose);
+            view.poses[int(i)] = pose;
+            if (settings.camera.follow && settings.camera.follow->object == object.name)
+                followedPath = tracks.path(object.name, f);
+        }
+        surfaces.commit();
+        view.camera = !followedPath.empty() ? followCamera(settings.camera, followedPath, firstSurface, width, height)
+                                            : Camera::fromSettings(settings.camera, width, height);
+        const CloudLighting lighting(density, settings.medium, settings.sun.direction, sunBlocked);
+        view.cloud = &lighting;
+        view.progress = frameProgress;
+        backend->render(view, outputDir);
+        stamps[std::to_string(f)] = stamp;
+        writeTextAtomically(stampsPath, stamps.dump(1) + "\n");
+
+        seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        ++summary.rendered;
+        if (options.progress) options.progress(f, summary.rendered + summary.skipped, total, seconds);
+    }
+    if (summary.rendered > 0) {
+        summary.secondsPerFrame = seconds / summary.rendered;
+        for (const auto& [name, s] : backend->secondsByBackend()) summary.backendSecondsPerFrame[name] = s / summary.rendered;
+    }
+    return summary;
+}
+
+} // namespace vfield
