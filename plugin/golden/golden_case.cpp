@@ -95,7 +95,10 @@ GoldenCase readGoldenCase(const std::string& folder)
     return c;
 }
 
-void writeGoldenCase(const GoldenCase& c) { writeTextAtomically(c.caseFile(), fieldsToJson(c).dump(2) + "\n"); }
+void writeGoldenCase(const GoldenCase& c)
+{
+    writeTextAtomically(c.caseFile(), fieldsToJson<GoldenCase, nlohmann::ordered_json>(c).dump(2) + "\n");
+}
 
 std::vector<GoldenCaseRef> findGoldenCases(const std::string& root)
 {

@@ -6,10 +6,13 @@
 
 namespace vfield {
 
-/// A struct as a scene file writes it: every field that applies.
+/// A struct as a scene file writes it: every field that applies, into a
+/// nlohmann::json (keys sorted) or nlohmann::ordered_json (keys in the
+/// declaration's order).
+template<typename Json>
 class FieldWriter {
 public:
-    explicit FieldWriter(nlohmann::json& object) : mObject(object) {}
+    explicit FieldWriter(Json& object) : mObject(object) {}
 
     template<typename T>
     void operator()(const Field<T>& f)
@@ -22,7 +25,7 @@ public:
             if (*f.ref()) mObject[f.key()] = valueToJson(**f.ref());
             else if (f.acceptsBoolean()) mObject[f.key()] = false;
         } else if constexpr (std::is_same_v<V, bool>) {
-            mObject[f.key()] = f.trueName() ? nlohmann::json(*f.ref() ? f.trueName() : f.falseName()) : nlohmann::json(*f.ref());
+            mObject[f.key()] = f.trueName() ? Json(*f.ref() ? f.trueName() : f.falseName()) : Json(*f.ref());
         } else {
             mObject[f.key()] = valueToJson(*f.ref());
         }
@@ -35,7 +38,7 @@ public:
     template<typename Declare>
     void operator()(const Group<Declare>& g)
     {
-        nlohmann::json nested = nlohmann::json::object();
+        Json nested = Json::object();
         FieldWriter writer(nested);
         g.declare(writer);
         mObject[g.key] = nested;
@@ -43,41 +46,42 @@ public:
 
 private:
     template<typename X>
-    static nlohmann::json valueToJson(const X& value)
+    static Json valueToJson(const X& value)
     {
         if constexpr (kHasFields<X>) {
-            nlohmann::json object = nlohmann::json::object();
+            Json object = Json::object();
             FieldWriter writer(object);
             X::visitFields(value, writer);
             return object;
         } else if constexpr (detail::IsSectionList<X>::value) {
-            nlohmann::json array = nlohmann::json::array();
+            Json array = Json::array();
             for (const auto& item : value) array.push_back(valueToJson(item));
             return array;
         } else {
-            return detail::leafToJson(value);
+            return Json(detail::leafToJson(value));
         }
     }
     template<typename X>
-    static nlohmann::json proxyToJson(const PairRef<X>& pair)
+    static Json proxyToJson(const PairRef<X>& pair)
     {
         return {*pair.first, *pair.second};
     }
     template<typename X>
-    static nlohmann::json proxyToJson(const UniformRef<X>& uniform)
+    static Json proxyToJson(const UniformRef<X>& uniform)
     {
         return (*uniform.vector)[0];
     }
 
-    nlohmann::json& mObject;
+    Json& mObject;
 };
 
-/// The struct's fields that apply, as a JSON object a scene file could hold.
-template<typename T>
-nlohmann::json fieldsToJson(const T& value)
+/// The struct's fields that apply, as a JSON object a scene file could hold;
+/// with Json = nlohmann::ordered_json, in the declaration's order.
+template<typename T, typename Json = nlohmann::json>
+Json fieldsToJson(const T& value)
 {
-    nlohmann::json object = nlohmann::json::object();
-    FieldWriter writer(object);
+    Json object = Json::object();
+    FieldWriter<Json> writer(object);
     T::visitFields(value, writer);
     return object;
 }
