@@ -45,6 +45,8 @@ openvdb::points::PointDataGrid::Ptr particleGrid(const ParticleSet& particles, b
     points::appendAttribute<float, ScaleCodec>(tree, "pscale");
     points::populateAttribute(tree, index->tree(), "pscale", points::PointAttributeVector<float>(particles.radius));
     if (withState) {
+        points::appendAttribute<Vec3f>(tree, "worldP");
+        points::populateAttribute(tree, index->tree(), "worldP", positions);
         points::appendAttribute<float>(tree, "peak");
         points::populateAttribute(tree, index->tree(), "peak", points::PointAttributeVector<float>(particles.peak));
         const std::vector<int32_t> clouds(particles.cloud.begin(), particles.cloud.end());
@@ -64,6 +66,21 @@ void readAttribute(const openvdb::points::PointDataTree& tree, const std::string
     for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) {
         const AttributeHandle<T> handle(leaf->constAttributeArray(name));
         for (auto index = leaf->beginIndexOn(); index; ++index) out.push_back(Out(handle.get(*index)));
+    }
+}
+
+/// The points' world positions from P, their offsets within their voxels.
+void readPositions(const openvdb::points::PointDataGrid& grid, std::vector<Vec3f>& out)
+{
+    using namespace openvdb::points;
+    out.clear();
+    out.reserve(pointCount(grid.tree()));
+    for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf) {
+        const AttributeHandle<openvdb::Vec3f> position(leaf->constAttributeArray("P"));
+        for (auto index = leaf->beginIndexOn(); index; ++index) {
+            const openvdb::Vec3d voxel = index.getCoord().asVec3d() + position.get(*index);
+            out.push_back(openvdb::Vec3f(grid.transform().indexToWorld(voxel)));
+        }
     }
 }
 
@@ -100,14 +117,8 @@ ParticleSet readParticleGrid(const openvdb::GridBase& base)
         if (!has(name)) throw ValueError("point grid '" + base.getName() + "' has no attribute '" + name + "'");
 
     ParticleSet read;
-    read.position.reserve(pointCount(tree));
-    for (auto l = tree.cbeginLeaf(); l; ++l) {
-        const AttributeHandle<openvdb::Vec3f> position(l->constAttributeArray("P"));
-        for (auto index = l->beginIndexOn(); index; ++index) {
-            const openvdb::Vec3d voxel = index.getCoord().asVec3d() + position.get(*index);
-            read.position.push_back(openvdb::Vec3f(grid->transform().indexToWorld(voxel)));
-        }
-    }
+    if (has("worldP")) readAttribute<openvdb::Vec3f>(tree, "worldP", read.position);
+    else readPositions(*grid, read.position);
     readAttribute<openvdb::Vec3f>(tree, "v", read.velocity);
     readAttribute<openvdb::Vec3f>(tree, "rest", read.rest);
     if (has("rest2")) {

@@ -8,9 +8,9 @@
 /// the parts' records summed (a frame's seconds and stages: every part's
 /// plus the merge's); tracks.json and field.vdb are the objects' part's.
 ///
-/// The grids are those one run of the whole cloud writes but for the order
-/// in which the particles' contributions are summed (within float rounding),
-/// and are the same for the same shard count on any machine.
+/// The density grids are those one run of the whole cloud writes, bit for
+/// bit: the splat's sums do not depend on the particles' order
+/// (density_splat.h).
 /// A merge resumes after the last frame it merged that is still as written.
 /// OUT holds a merge or a single run, never both: each refuses the other's.
 

@@ -15,8 +15,10 @@
 /// it is four voxels wide or more and moves continuously with the particle,
 /// so nothing pops. Depositing eight weights a particle and blurring the grid
 /// once costs far less than spreading every particle over its whole kernel.
-/// `vel` is the kernel-weighted mean velocity. Sums run in a fixed order
-/// whatever the thread count, so grids are identical for any number of threads.
+/// `vel` is the kernel-weighted mean velocity. The deposit's sums are taken
+/// in fixed point, so the grids are the same, bit for bit, for the same
+/// particles in any order and for any number of threads: one run's, and
+/// the merge of its shards'.
 
 #include <vfield/core/fields.h>
 #include <vfield/sim/particles.h>
