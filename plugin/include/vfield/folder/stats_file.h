@@ -43,7 +43,7 @@ struct StageSeconds {
     double splat = 0.0;     ///< the particles' density and velocity grids
     double detail = 0.0;    ///< the density's noise detail and cutoff
     /// the files: the frame's volume stage beyond the splat and the detail
-    /// (the particle grid is built and written beside the splat: SimFolder::writeFrame)
+    /// (the particle grid is built and written beside the splat: writeFrameVolume)
     double write = 0.0;
     StageSeconds& operator+=(const StageSeconds& o)
     {
