@@ -8,6 +8,31 @@
 
 namespace vfield {
 
+namespace {
+
+/// Calls visit(sum of the image, sum of the reference) for each block of
+/// side x side pixels, on a grid from the image's corner, that lies wholly in the cloud.
+template<typename Visit>
+void forWholeBlocks(const std::vector<char>& cloud, const std::vector<float>& image, const std::vector<float>& reference,
+                    int width, int height, int side, Visit&& visit)
+{
+    for (int by = 0; by + side <= height; by += side)
+        for (int bx = 0; bx + side <= width; bx += side) {
+            double blockSum = 0.0, blockReference = 0.0;
+            bool whole = true;
+            for (int y = by; y < by + side && whole; ++y)
+                for (int x = bx; x < bx + side; ++x) {
+                    const std::size_t i = std::size_t(y) * std::size_t(width) + std::size_t(x);
+                    whole = whole && cloud[i];
+                    blockSum += image[i];
+                    blockReference += reference[i];
+                }
+            if (whole) visit(blockSum, blockReference);
+        }
+}
+
+} // namespace
+
 CloudLightComparison compareCloudLight(const std::vector<float>& image, const std::vector<float>& reference,
                                        const std::vector<float>& clear, int width, int height, const CloudLightOptions& options)
 {
@@ -30,21 +55,32 @@ CloudLightComparison compareCloudLight(const std::vector<float>& image, const st
         c.mean = sum / double(c.pixels);
         c.referenceMean = referenceSum / double(c.pixels);
     }
-    const int n = options.block;
-    for (int by = 0; by + n <= height; by += n)
-        for (int bx = 0; bx + n <= width; bx += n) {
-            double blockSum = 0.0, blockReference = 0.0;
-            bool whole = true;
-            for (int y = by; y < by + n && whole; ++y)
-                for (int x = bx; x < bx + n; ++x) {
-                    const std::size_t i = std::size_t(y) * std::size_t(width) + std::size_t(x);
-                    whole = whole && cloud[i];
-                    blockSum += image[i];
-                    blockReference += reference[i];
+    forWholeBlocks(cloud, image, reference, width, height, options.block, [&](double blockSum, double blockReference) {
+        ++c.blocks;
+        if (std::abs(blockSum - blockReference) <= options.blockTolerance * blockReference) ++c.blocksWithin;
+    });
+    for (std::size_t i = 0; i < kRmsBlocks.size(); ++i) {
+        double squares = 0.0, referenceBlocks = 0.0;
+        long long& blocks = c.rmsBlocks[i];
+        forWholeBlocks(cloud, image, reference, width, height, kRmsBlocks[i], [&](double blockSum, double blockReference) {
+            ++blocks;
+            squares += (blockSum - blockReference) * (blockSum - blockReference);
+            referenceBlocks += blockReference;
+        });
+        if (blocks > 0 && referenceBlocks > 0.0)
+            c.relativeRms[i] = std::sqrt(squares / double(blocks)) / (referenceBlocks / double(blocks));
+    }
+    for (int y = 1; y + 1 < height; ++y)
+        for (int x = 1; x + 1 < width; ++x) {
+            if (!cloud[std::size_t(y) * std::size_t(width) + std::size_t(x)]) continue;
+            double around = 0.0, referenceAround = 0.0;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const std::size_t i = std::size_t(y + dy) * std::size_t(width) + std::size_t(x + dx);
+                    around += image[i];
+                    referenceAround += reference[i];
                 }
-            if (!whole) continue;
-            ++c.blocks;
-            if (std::abs(blockSum - blockReference) <= options.blockTolerance * blockReference) ++c.blocksWithin;
+            if (around > options.speckRatio * referenceAround) ++c.specks;
         }
     return c;
 }

@@ -10,6 +10,7 @@
 
 #include <OpenImageIO/imagebuf.h>
 
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -69,6 +70,40 @@ TEST_CASE("cloud light: the means cover the pixels the cloud brightens and block
     CHECK_FALSE(c.agrees(loose)); // 5 of 6 blocks (83%) agree, short of 90%
     loose.blockShare = 0.8;
     CHECK(c.agrees(loose));
+}
+
+TEST_CASE("cloud light: blotches show in the blocks' relative RMS and a bright pixel as a speck", "[image]")
+{
+    const std::vector<float> clear = frame(0.0f), reference = frame(0.5f);
+    std::vector<float> image = reference;
+    // Lumps of 4x4 pixels, 20% over and under in turn: 4x4 blocks see all
+    // of them, 8x8 blocks each hold two that cancel.
+    for (int y = 0; y < kHeight; ++y)
+        for (int x = 0; x < 24; ++x) image[std::size_t(y) * kWidth + std::size_t(x)] *= (x / 4 + y / 4) % 2 ? 1.2f : 0.8f;
+    const CloudLightComparison c = compareCloudLight(image, reference, clear, kWidth, kHeight);
+    CHECK(c.rmsBlocks == std::array<long long, 2>{24, 6});
+    CHECK(c.relativeRms[0] == Approx(0.2));
+    CHECK(c.relativeRms[1] == Approx(0.0).margin(1e-6));
+    CHECK(c.specks == 0);
+    CloudLightOptions asked;
+    asked.rmsTolerance = {0.08, 0.05};
+    CHECK_FALSE(c.agrees(asked));
+    asked.rmsTolerance = {0.25, 0.05};
+    CHECK(c.agrees(asked));
+
+    // One pixel 20 times as bright lifts its 3x3 neighbourhood's light
+    // (9 x 0.7) by 19 x 0.7 past twice the reference's: a speck in each of
+    // the nine windows that hold it.
+    std::vector<float> speckled = reference;
+    speckled[std::size_t(8) * kWidth + 12] *= 20.0f;
+    const CloudLightComparison s = compareCloudLight(speckled, reference, clear, kWidth, kHeight);
+    CHECK(s.specks == 9);
+    CloudLightOptions loose; // its mean (5% over) and its block (30%) let pass
+    loose.meanTolerance = 0.1;
+    loose.blockShare = 0.8;
+    CHECK(s.agrees(loose));
+    loose.specksAllowed = 0;
+    CHECK_FALSE(s.agrees(loose));
 }
 
 TEST_CASE("cloud light: a render that adds nothing over the clear frame has no cloud and does not agree", "[image]")

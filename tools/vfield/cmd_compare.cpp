@@ -45,6 +45,17 @@ int reportCloudLight(const std::string& a, const std::string& b, const std::stri
                 c.ratio(), options.meanTolerance, c.meansAgree(options) ? "yes" : "no");
     std::printf("  %lld of %lld blocks of %dx%d pixels within %g (%.1f%%, at least %.1f%% wanted)\n", c.blocksWithin, c.blocks,
                 options.block, options.block, options.blockTolerance, 100.0 * c.shareWithin(), 100.0 * options.blockShare);
+    for (std::size_t i = 0; i < kRmsBlocks.size(); ++i) {
+        std::printf("  relative RMS over %lld blocks of %dx%d pixels: %.4f", c.rmsBlocks[i], kRmsBlocks[i], kRmsBlocks[i],
+                    c.relativeRms[i]);
+        if (options.rmsTolerance[i] >= 0.0)
+            std::printf(" (within %g: %s)", options.rmsTolerance[i], c.rmsWithin(options, i) ? "yes" : "no");
+        std::printf("\n");
+    }
+    std::printf("  %lld specks (over 3x3 pixels, more than %g times the reference's light)", c.specks, options.speckRatio);
+    if (options.specksAllowed >= 0)
+        std::printf(" (at most %lld: %s)", options.specksAllowed, c.specksWithin(options) ? "yes" : "no");
+    std::printf("\n");
     const bool agrees = c.agrees(options);
     std::printf("%s\n", agrees ? "PASS" : "FAILURE");
     return agrees ? 0 : 1;
@@ -117,6 +128,14 @@ Runner registerCompare(CLI::App& app, const GlobalOptions&)
     command->add_option("--block-share", o->light.blockShare, "Light: share of the whole blocks that must agree")
         ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str();
+    command
+        ->add_option("--rms-tolerance", o->light.rmsTolerance,
+                     "Light: the largest relative RMS over blocks of 4x4 and of 8x8 pixels [default: unchecked]")
+        ->check(CLI::NonNegativeNumber)
+        ->delimiter(',');
+    command
+        ->add_option("--specks-allowed", o->light.specksAllowed, "Light: the most specks a render may have [default: unchecked]")
+        ->check(CLI::NonNegativeNumber);
 
     return [o] {
         int status = 0;
