@@ -105,11 +105,11 @@ struct FeatureScene {
         frame.volume = volume.get();
     }
 
-    RenderImage render(IntegratorKind kind, int samplesPerPixel, int seedFrame = 1)
+    RenderImage render(IntegratorKind kind, int samplesPerPixel, int seed = 0)
     {
         settings.integrator.kind = kind;
         settings.image.samplesPerPixel = samplesPerPixel;
-        frame.frame = seedFrame;
+        settings.image.seed = seed;
         light();
         return renderFrame(frame);
     }

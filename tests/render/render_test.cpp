@@ -247,6 +247,27 @@ TEST_CASE("render: images are identical for 1 and 2 threads", "[render]")
     CHECK(one.rgba == two.rgba);
 }
 
+TEST_CASE("render: a shot that does not move renders identical frames; an animated or another seed draws other noise", "[render]")
+{
+    SmallScene scene;
+    scene.settings.integrator.multipleScattering.method = MultipleScatteringMethod::Paths; // its paths are drawn too
+    scene.settings.integrator.multipleScattering.pathsPerFrame = 2000;
+    const LitCloud cloud(constantBox({-6, 2, -3}, {6, 6, 3}, 0.25, 0.6f), scene.settings, scene.settings.sun.direction,
+                         &scene.surfaces);
+    scene.frame.volume = &cloud.volume;
+    const auto renderAt = [&](int frame) {
+        scene.frame.frame = frame;
+        return renderFrame(scene.frame).rgba;
+    };
+    const std::vector<float> first = renderAt(1);
+    CHECK(renderAt(2) == first);
+    CHECK(renderAt(240) == first);
+    scene.settings.image.seed = 5;
+    CHECK(renderAt(1) != first);
+    scene.settings.image.animatedSeed = true;
+    CHECK(renderAt(1) != renderAt(2));
+}
+
 TEST_CASE("render: pixels stand out by their display values' difference from a neighbour's, or their coverage's", "[render]")
 {
     // Columns 0-3 and 4-7: a step in linear value, or in coverage.

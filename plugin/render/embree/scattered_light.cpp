@@ -74,8 +74,8 @@ ScatteredLightGrid traceScatteredLight(const FrameToRender& f)
         for (; tile; ++tile) cover(tile.getBoundingBox());
     }
     const Medium medium(f.volume, f.settings->medium);
-    // Streams apart from the camera's (frame, pixel, sample) ones.
-    const uint32_t stream = uint32_t(f.frame) ^ 0x9e3779b9u;
+    // Streams apart from the camera's (seed, pixel, sample) ones.
+    const uint32_t stream = f.settings->image.noiseStream(f.frame) ^ 0x9e3779b9u;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cast.size(), 256), [&](const tbb::blocked_range<std::size_t>& r) {
         Medium::Density density = medium.density();
         for (std::size_t n = r.begin(); n != r.end(); ++n) {

@@ -117,6 +117,16 @@ struct ImageSettings {
     double adaptiveThreshold = 0.0;
     /// Off, the sky is drawn opaque (alpha 1); frames are premultiplied either way.
     bool transparentSky = false;
+    int seed = 0;
+    /// Off (as Blender's default), every frame draws the same random numbers:
+    /// what does not move keeps its noise still instead of boiling.
+    bool animatedSeed = false;
+
+    /// The stream every random number of a frame is drawn from (with the pixel and sample).
+    uint32_t noiseStream(int frame) const
+    {
+        return animatedSeed ? (uint32_t(frame) * 0x9e3779b9u) ^ uint32_t(seed) : uint32_t(seed);
+    }
 
     /// Keys as in a scene file's "render": "resolution/0", "samplesPerPixel".
     void validate() const;
@@ -137,6 +147,12 @@ struct ImageSettings {
         visit(field("transparentSky", self.transparentSky)
                   .doc("the sky drawn as RGB 0, alpha 0 in EXR frames (premultiplied), for compositing over a plate; "
                        "PNG frames then show black sky. Embree back-end only"));
+        visit(field("seed", self.seed)
+                  .range(0, 2147483647)
+                  .doc("of the random numbers: another seed draws the same image with other noise. Embree back-end only"));
+        visit(field("animatedSeed", self.animatedSeed)
+                  .doc("draw each frame's noise afresh, as Blender's animated seed does; off, a still shot's frames are "
+                       "identical and a moving one's noise does not boil. Embree back-end only"));
     }
 };
 

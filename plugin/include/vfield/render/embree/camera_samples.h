@@ -88,6 +88,7 @@ RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler&
     const ImageSettings& settings = f.settings->image;
     const int width = settings.width, height = settings.height, samplesPerPixel = settings.samplesPerPixel;
     const bool adaptive = settings.adaptiveThreshold > 0.0 && samplesPerPixel > 1;
+    const uint32_t stream = settings.noiseStream(f.frame);
     RenderImage image;
     image.width = width;
     image.height = height;
@@ -137,7 +138,7 @@ RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler&
                 for (int sample = firstSample; sample < lastSample && packet.count > 0; ++sample) {
                     for (int lane = 0; lane < packet.count; ++lane) {
                         const uint32_t pixel = packet.pixels[lane] = lanePixels[lane];
-                        SampleRandom& random = packet.randoms[lane] = SampleRandom(uint32_t(f.frame), pixel, uint32_t(sample));
+                        SampleRandom& random = packet.randoms[lane] = SampleRandom(stream, pixel, uint32_t(sample));
                         // One sample at the pixel centre, the rest jittered over it.
                         const double jx = samplesPerPixel == 1 ? 0.5 : random.next();
                         const double jy = samplesPerPixel == 1 ? 0.5 : random.next();
