@@ -10,8 +10,11 @@ Cycles renders the folder as the add-on imports it (plugin/blender), with
 the settings that match vfield's reference (matching_cycles below): no
 clamping, no denoising, a box pixel filter, a point-like sun, volume steps
 of a quarter voxel, 256 volume bounces (0 for single scattering, as vfield's
-maxBounces 1). Its noise is measured: it renders each case SEEDS times with
-other seeds, and the standard error of their mean widens the tolerance.
+maxBounces 1). One render gives both: its combined image is the multiple
+scattering, its Volume Direct pass (the sun's light at the first scattering
+event) the single. Its noise is measured: it renders each lighting SEEDS
+times with other seeds, and the standard error of their mean widens the
+tolerance.
 
 blender -b --factory-startup --python-exit-code 1 --python test_cycles_light.py --
     --vfield VFIELD --scene scenes/cloud_bank.json --work DIR"""
@@ -31,8 +34,8 @@ from vfield_blender.build import import_simulation, remove_import  # noqa: E402
 
 # The sun 140, 90 and 30 degrees from the camera's view (vfield's y-up world).
 LIGHTINGS = {"front": (0.534, 0.673, 0.512), "side": (-0.305, 0.764, 0.569), "back": (-0.977, 0.176, 0.12)}
-# vfield's maxBounces and Cycles' volume bounces for each.
-SCATTERING = {"single": (1, 0), "multiple": (1000, 256)}
+# vfield's maxBounces for each, and the Cycles image that holds it.
+SCATTERING = {"single": (1, "volume_direct"), "multiple": (1000, "combined")}
 LONE_CLOUD = [
     "--set", "/objects=[]",
     "--set", "/sky/intensity=0",
@@ -65,7 +68,7 @@ def mean_radiance(path):
     return sum(sum(pixels[channel::4]) for channel in range(3)) / (3 * count)
 
 
-def matching_cycles(scene, volume_bounces, seed):
+def matching_cycles(scene, seed):
     """What makes Cycles compute what vfield's reference does."""
     cycles = scene.cycles
     cycles.device = "CPU"
@@ -73,7 +76,7 @@ def matching_cycles(scene, volume_bounces, seed):
     cycles.use_adaptive_sampling = False
     cycles.use_denoising = False
     cycles.seed = seed
-    cycles.volume_bounces = volume_bounces
+    cycles.volume_bounces = 256
     cycles.max_bounces = 256
     cycles.volume_step_rate = 0.25
     cycles.volume_max_steps = 100000
@@ -88,17 +91,42 @@ def matching_cycles(scene, volume_bounces, seed):
     scene.render.image_settings.color_depth = "32"
 
 
-def cycles_means(sim, volume_bounces, work):
-    """Cycles' mean radiance of the imported frame, once per seed."""
+def write_passes(scene, work, seed):
+    """The compositor writes the combined image and the Volume Direct pass to
+    their own OpenEXR files; returns their paths by SCATTERING's names."""
+    scene.view_layers[0].cycles.use_pass_volume_direct = True
+    scene.use_nodes = True
+    nodes = scene.node_tree.nodes
+    nodes.clear()
+    layers = nodes.new("CompositorNodeRLayers")
+    output = nodes.new("CompositorNodeOutputFile")
+    output.base_path = work
+    output.format.file_format = "OPEN_EXR"
+    output.format.color_depth = "32"
+    output.file_slots.clear()
+    paths = {}
+    for image, socket in (("combined", "Image"), ("volume_direct", "VolumeDir")):
+        name = f"cycles_{image}_{seed}_"
+        output.file_slots.new(name)
+        scene.node_tree.links.new(layers.outputs[socket], output.inputs[name])
+        paths[image] = os.path.join(work, f"{name}{scene.frame_current:04d}.exr")
+    return paths
+
+
+def cycles_means(sim, work):
+    """Cycles' mean radiance of the imported frame, combined and single
+    scattering, once per seed."""
     scene = bpy.context.scene
     import_simulation(bpy.context, sim)
     scene.frame_set(1)
-    means = []
+    means = {"combined": [], "volume_direct": []}
     for seed in range(1, SEEDS + 1):
-        matching_cycles(scene, volume_bounces, seed)
-        scene.render.filepath = os.path.join(work, f"cycles_{volume_bounces}_{seed}.exr")
-        bpy.ops.render.render(write_still=True)
-        means.append(mean_radiance(scene.render.filepath))
+        matching_cycles(scene, seed)
+        paths = write_passes(scene, work, seed)
+        scene.render.filepath = os.path.join(work, f"cycles_{seed}.exr")
+        bpy.ops.render.render(write_still=False)
+        for image, path in paths.items():
+            means[image].append(mean_radiance(path))
     remove_import(sim)
     return means
 
@@ -125,9 +153,10 @@ def main():
         lighting = [*LONE_CLOUD, "--set", "/sun/direction=[%g,%g,%g]" % sun]
         # The frame's density, and the host scene the add-on imports (camera and sun included).
         subprocess.run([args.vfield, "--quiet", "simulate", args.scene, "-o", sim, "--frames", "1", *lighting], check=True)
-        for scattering, (max_bounces, volume_bounces) in SCATTERING.items():
+        cycles_images = cycles_means(sim, work)
+        for scattering, (max_bounces, image) in SCATTERING.items():
             ours = vfield_mean(args, sim, lighting, max_bounces, work)
-            cycles = cycles_means(sim, volume_bounces, work)
+            cycles = cycles_images[image]
             ratio = statistics.mean(cycles) / ours
             # The standard error of Cycles' mean over its seeds; vfield's, at
             # more samples of a path tracer with less variance, is smaller.
