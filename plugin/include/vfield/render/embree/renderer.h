@@ -9,7 +9,9 @@
 /// tracer (path_tracer.h) that the fast one is measured against.
 ///
 /// Every sample's random numbers come from a counter-based generator keyed by
-/// (frame, pixel, sample), so images are identical for any thread count.
+/// (the frame's noise stream, pixel, sample), so images are identical for any
+/// thread count; the stream is the scene's seed (ImageSettings::noiseStream),
+/// the same every frame unless the seed is animated.
 
 #include <vfield/render/camera.h>
 #include <vfield/render/embree/cloud_volume.h>

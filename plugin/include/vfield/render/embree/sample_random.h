@@ -1,6 +1,6 @@
 #pragma once
 /// @file sample_random.h
-/// A counter-based random stream: each (frame, pixel, sample) has its own,
+/// A counter-based random stream: each (noise stream, pixel, sample) has its own,
 /// whatever thread draws it (PCG-style hashing of the counter), so that
 /// vfield's integrators give identical images for any thread count.
 
@@ -11,8 +11,8 @@ namespace vfield {
 class SampleRandom {
 public:
     SampleRandom() = default; ///< a placeholder, to be assigned a sample's stream
-    SampleRandom(uint32_t frame, uint32_t pixel, uint32_t sample)
-        : mState(hash(hash(hash(frame) ^ pixel) ^ (uint64_t(sample) << 32)))
+    SampleRandom(uint32_t stream, uint32_t pixel, uint32_t sample)
+        : mState(hash(hash(hash(stream) ^ pixel) ^ (uint64_t(sample) << 32)))
     {}
     /// Uniform in [0, 1).
     double next() { return double(hash(mState++) >> 11) * (1.0 / 9007199254740992.0); }
