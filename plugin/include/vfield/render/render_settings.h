@@ -151,8 +151,8 @@ struct ImageSettings {
                   .range(0, 2147483647)
                   .doc("of the random numbers: another seed draws the same image with other noise. Embree back-end only"));
         visit(field("animatedSeed", self.animatedSeed)
-                  .doc("draw each frame's noise afresh, as Blender's animated seed does; off, a still shot's frames are "
-                       "identical and a moving one's noise does not boil. Embree back-end only"));
+                  .doc("draw each frame's noise afresh, as Blender's animated seed does; off, every frame draws the same "
+                       "numbers and a shot where nothing moves renders identical frames. Embree back-end only"));
     }
 };
 
