@@ -1,5 +1,6 @@
 #include <vfield/host/versions.h>
 
+#include <vfield/render/display_view.h>
 #include <vfield/render/embree/embree_backend.h>
 #include <vfield/render/povray/povray_runner.h>
 
@@ -18,13 +19,15 @@ Versions versions()
     const int oiio = OIIO::openimageio_version();
     v.openImageIO = std::to_string(oiio / 10000) + "." + std::to_string(oiio / 100 % 100) + "." + std::to_string(oiio % 100);
     v.povray = povrayVersion();
+    v.colourConfig = displayConfigPath();
     return v;
 }
 
 std::string versionReport(const Versions& versions)
 {
     return "vfield " + versions.vfield + "\nOpenVDB " + versions.openvdb + "\nEmbree " + versions.embree + "\nOpenImageIO " +
-           versions.openImageIO + "\nPOV-Ray " + versions.povray.value_or("not found");
+           versions.openImageIO + "\nPOV-Ray " + versions.povray.value_or("not found") + "\nOpenColorIO config " +
+           versions.colourConfig;
 }
 
 } // namespace vfield

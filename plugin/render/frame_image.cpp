@@ -27,14 +27,27 @@ bool endsWith(const std::string& text, const std::string& tail)
 
 } // namespace
 
-OIIO::ImageBuf toDisplay(const RenderImage& image)
+OIIO::ImageBuf toDisplay(const RenderImage& image, const DisplayView& view)
 {
     OIIO::ImageBuf buf(OIIO::ImageSpec(image.width, image.height, 3, OIIO::TypeDesc::FLOAT));
     float* display = static_cast<float*>(buf.localpixels()); // a new ImageBuf's pixels: contiguous, rows top-down
-    tbb::parallel_for(0, image.height, [&](int y) {
-        for (std::size_t i = std::size_t(y) * image.width; i < std::size_t(y + 1) * image.width; ++i)
-            for (int c = 0; c < 3; ++c) display[3 * i + c] = linearToSrgb(image.rgba[4 * i + c]);
+    const std::size_t pixels = std::size_t(image.width) * image.height;
+    tbb::parallel_for(std::size_t(0), pixels, [&](std::size_t i) {
+        for (int c = 0; c < 3; ++c) display[3 * i + c] = image.rgba[4 * i + c];
     });
+    view.apply(display, pixels);
+    return buf;
+}
+
+OIIO::ImageBuf toDisplay(const OIIO::ImageBuf& linear, const DisplayView& view)
+{
+    const OIIO::ImageSpec& spec = linear.spec();
+    if (spec.nchannels < 3) throw FileError(linear.name(), "expected R, G and B channels");
+    OIIO::ImageBuf buf(OIIO::ImageSpec(spec.width, spec.height, 3, OIIO::TypeDesc::FLOAT));
+    if (!linear.get_pixels(OIIO::ROI(spec.x, spec.x + spec.width, spec.y, spec.y + spec.height, 0, 1, 0, 3),
+                           OIIO::TypeDesc::FLOAT, buf.localpixels()))
+        throw FileError(linear.name(), "cannot read the image: " + linear.geterror());
+    view.apply(static_cast<float*>(buf.localpixels()), std::size_t(spec.width) * spec.height);
     return buf;
 }
 
@@ -44,6 +57,8 @@ OIIO::ImageBuf toLinear(const RenderImage& image)
     spec.channelnames = {"R", "G", "B", "A", "Z"};
     spec.alpha_channel = 3;
     spec.z_channel = 4;
+    spec.attribute("colorSpace", kWorkingSpaceName);
+    spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), kWorkingSpaceChromaticities);
     OIIO::ImageBuf buf(spec);
     float* linear = static_cast<float*>(buf.localpixels());
     tbb::parallel_for(0, image.height, [&](int y) {
@@ -55,9 +70,9 @@ OIIO::ImageBuf toLinear(const RenderImage& image)
     return buf;
 }
 
-void writeFrameImage(const RenderImage& image, const std::string& path)
+void writeFrameImage(const RenderImage& image, const std::string& path, const DisplayView& view)
 {
-    if (endsWith(path, ".png")) writeImage(toDisplay(image), path);
+    if (endsWith(path, ".png")) writeImage(toDisplay(image, view), path);
     else if (endsWith(path, ".exr")) writeImage(toLinear(image), path);
     else throw FileError(path, "frames are written as .png or .exr");
 }

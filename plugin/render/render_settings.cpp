@@ -15,6 +15,7 @@ void CameraSettings::validate() const
 void SunSettings::validate() const { checkFields(*this); }
 void SkySettings::validate() const { checkFields(*this); }
 void ImageSettings::validate() const { checkFields(*this); }
+void ViewSettings::validate() const { checkFields(*this); }
 void MediumSettings::validate() const { checkFields(*this); }
 void MultipleScatteringSettings::validate() const { checkFields(*this); }
 void IntegratorSettings::validate() const { checkFields(*this); }

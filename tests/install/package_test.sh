@@ -2,7 +2,7 @@
 # ctest label "install": tools/package makes the Debian package from the
 # build; as root with apt (CI: a fresh Debian 12), `apt-get install` takes it
 # with its Depends, and the installed /usr/bin/vfield reports the versions of
-# the four libraries it runs with. The package is removed again unless it was
+# the four libraries it runs with and finds the installed OpenColorIO config. The package is removed again unless it was
 # installed before. Exits 77 (skipped) when not root or without apt-get.
 # Usage: package_test.sh SOURCE_DIR BUILD_DIR WORK_DIR
 set -euo pipefail
@@ -32,4 +32,7 @@ version=$(/usr/bin/vfield --version) || fail "/usr/bin/vfield --version failed"
 for library in OpenVDB Embree OpenImageIO POV-Ray; do
     grep -q "^$library [0-9]" <<< "$version" || fail "/usr/bin/vfield --version names no $library version: $version"
 done
+# Its OpenColorIO config is the package's, found from where the library lies.
+grep -qx "OpenColorIO config /usr/share/vfield/ocio/config.ocio" <<< "$version" ||
+    fail "/usr/bin/vfield does not find the installed OpenColorIO config: $version"
 echo "$version"

@@ -5,6 +5,7 @@
 
 #include <vfield/core/atomic_file.h>
 #include <vfield/core/error.h>
+#include <vfield/core/image_file.h>
 #include <vfield/mesh/procedural.h>
 #include <vfield/render/embree/cloud_volume.h>
 #include <vfield/render/embree/embree_backend.h>
@@ -98,14 +99,16 @@ struct FixedScene {
     }
 };
 
-/// A density grid alone in the sky, drawn by both back-ends: linear RGB images.
+/// A density grid alone in the sky, drawn by both back-ends: linear RGB
+/// images, from PNG frames shown through the Standard view (sRGB, clipped at 1).
 struct CloudInBoth {
     OIIO::ImageBuf embree, povray;
 };
 
-CloudInBoth renderCloudInBoth(const openvdb::FloatGrid::Ptr& density, const RenderSettings& settings, const std::string& dir,
+CloudInBoth renderCloudInBoth(const openvdb::FloatGrid::Ptr& density, RenderSettings settings, const std::string& dir,
                               const PovraySettings& povraySettings = {})
 {
+    settings.view.view = "Standard";
     SurfaceScene nothing;
     nothing.commit();
     const CloudLighting lighting(density, settings.medium, settings.sun.direction, {});
@@ -177,8 +180,8 @@ TEST_CASE("povray: POV-Ray renders the exported scene", "[povray]")
     size.width = 64;
     size.height = 36;
     size.samplesPerPixel = 1;
-    runPovray(dir, "frame.0012.pov", "render.png", size, PovrayQuality::Final, 1);
-    OIIO::ImageBuf image(dir + "/render.png");
+    runPovray(dir, "frame.0012.pov", "render.exr", size, PovrayQuality::Final, 1);
+    OIIO::ImageBuf image(dir + "/render.exr");
     REQUIRE(image.read(0, 0, true, OIIO::TypeDesc::FLOAT));
     CHECK(image.spec().width == 64);
     CHECK(image.spec().height == 36);
@@ -224,7 +227,9 @@ TEST_CASE("povray: terrain against the sky agrees with vfield's renderer (IoU >=
     embree.terrainLow = mesh.bounds().min()[1];
     embree.terrainHigh = mesh.bounds().max()[1];
     const std::string dir = test::scratchDir("povray-mask");
-    writeFrameImage(renderFrame(embree), dir + "/vfield.png");
+    // Both through the Standard view: pure blue stays pure blue.
+    const DisplayView standard(ViewSettings{"Standard", 0.0});
+    writeFrameImage(renderFrame(embree), dir + "/vfield.png", standard);
     writeTextAtomically(dir + "/meshes.inc", povrayMeshesText({{0, &mesh, SurfaceMaterial::terrain(), Transform{}}},
                                                               mesh.bounds().min()[1], mesh.bounds().max()[1]));
     PovrayFrame frame;
@@ -233,10 +238,10 @@ TEST_CASE("povray: terrain against the sky agrees with vfield's renderer (IoU >=
     frame.meshInclude = "meshes.inc";
     frame.staticObjects = {0};
     writeTextAtomically(dir + "/terrain.pov", povrayFrameText(frame));
-    runPovray(dir, "terrain.pov", "terrain.png", settings.image, PovrayQuality::Final, 1);
-    OIIO::ImageBuf ours(dir + "/vfield.png"), theirs(dir + "/terrain.png");
+    runPovray(dir, "terrain.pov", "terrain.exr", settings.image, PovrayQuality::Final, 1);
+    OIIO::ImageBuf ours(dir + "/vfield.png");
     REQUIRE(ours.read(0, 0, true, OIIO::TypeDesc::FLOAT));
-    REQUIRE(theirs.read(0, 0, true, OIIO::TypeDesc::FLOAT));
+    const OIIO::ImageBuf theirs = toDisplay(readImageAsFloat(dir + "/terrain.exr"), standard);
     const auto isTerrain = [](const OIIO::ImageBuf& image, int x, int y) {
         float rgb[3];
         image.getpixel(x, y, rgb, 3);
@@ -264,23 +269,23 @@ TEST_CASE("povray: a missing povray names the package, and a failing scene carri
     {
         const ScopedPath nowhere(dir + "/no-such-folder");
         CHECK_FALSE(povrayAvailable());
-        CHECK_THROWS_WITH(runPovray(dir, "broken.pov", "out.png", ImageSettings{}, PovrayQuality::Final, 1),
+        CHECK_THROWS_WITH(runPovray(dir, "broken.pov", "out.exr", ImageSettings{}, PovrayQuality::Final, 1),
                           "POV-Ray (the povray program) is not on PATH; install the Debian package 'povray' "
                           "(tools/setup does)");
     }
     // POV-Ray is a dependency tools/setup installs: without it this test fails, naming the package.
     REQUIRE_NOTHROW(requirePovray());
     try {
-        runPovray(dir, "broken.pov", "out.png", ImageSettings{}, PovrayQuality::Final, 1);
+        runPovray(dir, "broken.pov", "out.exr", ImageSettings{}, PovrayQuality::Final, 1);
         FAIL("a broken scene rendered");
     } catch (const FileError& e) {
         const std::string message = e.what();
         CHECK(message.rfind(dir + "/broken.pov: POV-Ray failed (exit status 1): ", 0) == 0);
         CHECK(message.find("Parse Error") != std::string::npos);
-        CHECK(message.find("(log: " + dir + "/out.png.log)") != std::string::npos);
+        CHECK(message.find("(log: " + dir + "/out.exr.log)") != std::string::npos);
         CHECK(message.find('\n') == std::string::npos);
     }
-    CHECK_FALSE(fs::exists(dir + "/out.png"));
+    CHECK_FALSE(fs::exists(dir + "/out.exr"));
 }
 
 TEST_CASE("povray: the fraction of pixels POV-Ray reports rendered is told while it renders, never shrinking", "[povray]")
@@ -295,7 +300,7 @@ TEST_CASE("povray: the fraction of pixels POV-Ray reports rendered is told while
     image.height = 240;
     image.samplesPerPixel = 81;
     std::vector<double> told;
-    runPovray(dir, "sphere.pov", "sphere.png", image, PovrayQuality::Final, 1,
+    runPovray(dir, "sphere.pov", "sphere.exr", image, PovrayQuality::Final, 1,
               [&](double fraction) { told.push_back(fraction); });
     REQUIRE_FALSE(told.empty());
     CHECK(std::is_sorted(told.begin(), told.end()));

@@ -343,13 +343,14 @@ TEST_CASE("render: adaptive sampling gives every sample to the pixels that stand
     CHECK(renderFrame(scene.frame).rgba == adaptive.rgba);
 }
 
-TEST_CASE("render: EXR frames hold half-float premultiplied colour and 32-bit depth, and PNG is sRGB", "[render]")
+TEST_CASE("render: EXR frames hold linear Rec.709 half-float colour and 32-bit depth, and PNG is the view's", "[render]")
 {
     SmallScene scene;
     const RenderImage image = renderFrame(scene.frame);
     const std::string dir = test::scratchDir("render-exr");
-    writeFrameImage(image, dir + "/f.exr");
-    writeFrameImage(image, dir + "/f.png");
+    const DisplayView standard(ViewSettings{"Standard", 0.0});
+    writeFrameImage(image, dir + "/f.exr", standard);
+    writeFrameImage(image, dir + "/f.png", standard);
     OIIO::ImageBuf exr(dir + "/f.exr");
     REQUIRE(exr.read());
     const OIIO::ImageSpec& spec = exr.spec();
@@ -359,6 +360,12 @@ TEST_CASE("render: EXR frames hold half-float premultiplied colour and 32-bit de
     CHECK(exr.nativespec().channelformat(0) == OIIO::TypeDesc::HALF);
     CHECK(exr.nativespec().channelformat(3) == OIIO::TypeDesc::HALF);
     CHECK(exr.nativespec().channelformat(4) == OIIO::TypeDesc::FLOAT);
+    // The header names the working space and its primaries, as OpenEXR's chromaticities.
+    CHECK(spec.get_string_attribute("colorSpace") == "Linear Rec.709");
+    const OIIO::ParamValue* chromaticities = spec.find_attribute("chromaticities");
+    REQUIRE(chromaticities);
+    CHECK(chromaticities->get_float_indexed(0) == 0.64f);   // red x
+    CHECK(chromaticities->get_float_indexed(7) == 0.3290f); // white y: D65
     // The pillar's centre: depth is the camera distance, colour the linear value.
     const int x = 48, y = 24;
     const float* linear = &image.rgba[4 * (std::size_t(y) * image.width + x)];
@@ -384,7 +391,7 @@ TEST_CASE("render: EXR frames composite over a plate with OIIO's over", "[render
     const auto rgbaOf = [&](bool transparentSky) {
         scene.settings.image.transparentSky = transparentSky;
         const std::string path = dir + (transparentSky ? "/transparent.exr" : "/drawn.exr");
-        writeFrameImage(renderFrame(scene.frame), path);
+        writeFrameImage(renderFrame(scene.frame), path, DisplayView(scene.settings.view));
         OIIO::ImageBuf exr(path);
         REQUIRE(exr.read(0, 0, true, OIIO::TypeDesc::FLOAT));
         return OIIO::ImageBufAlgo::channels(exr, 4, {0, 1, 2, 3});

@@ -48,7 +48,7 @@ int main(int argc, char** argv)
     app.add_flag("-q,--quiet", global.quiet, "No progress or log lines on stderr");
     app.set_version_flag(
         "--version", [] { return vfield::versionReport(vfield::versions()); },
-        "Print vfield's version and those of OpenVDB, Embree, OpenImageIO and POV-Ray");
+        "Print vfield's version, those of OpenVDB, Embree, OpenImageIO and POV-Ray, and the OpenColorIO config it uses");
 
     const std::map<std::string, Runner> runners = {
         {"make-mesh", registerMakeMesh(app, global)},

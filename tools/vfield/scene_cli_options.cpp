@@ -90,6 +90,20 @@ void addRenderShorthands(CLI::App& command, SceneCliOptions& options)
         "--transparent-sky", [&options] { options.shorthands.push_back("/render/transparentSky=true"); },
         "Draw the sky as RGB 0, alpha 0 (premultiplied), to composite over a plate (--set /render/transparentSky=true) "
         "[default: the scene's]");
+    command
+        .add_option_function<std::string>(
+            "--view",
+            [&options](const std::string& name) { options.shorthands.push_back("/render/view=" + nlohmann::json(name).dump()); },
+            "The OpenColorIO view PNG frames show: Filmic, Standard, Raw, or one of $OCIO's config (--set "
+            "/render/view=\"NAME\") [default: the scene's]")
+        ->type_name("NAME");
+    command
+        .add_option_function<double>(
+            "--exposure",
+            [&options](double stops) { options.shorthands.push_back("/render/exposure=" + nlohmann::json(stops).dump()); },
+            "Stops of exposure before the view; EXR frames keep the light as rendered (--set /render/exposure=STOPS) "
+            "[default: the scene's]")
+        ->type_name("STOPS");
     addEnumShorthand<IntegratorKind>(
         command, options, "--integrator", "/render/integrator",
         "vfield's renderer: fast (ray march, light grids, multiple scattering by octaves or by paths) or "

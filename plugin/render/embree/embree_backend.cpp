@@ -16,7 +16,7 @@ EmbreeBackend::EmbreeBackend(const RenderSettings& settings, const SurfaceScene&
                              std::map<int, SurfaceMaterial> materials, double terrainLow, double terrainHigh,
                              std::vector<std::string> formats)
     : mSettings(settings), mSurfaces(surfaces), mMaterials(std::move(materials)), mTerrainLow(terrainLow),
-      mTerrainHigh(terrainHigh), mFormats(std::move(formats))
+      mTerrainHigh(terrainHigh), mFormats(std::move(formats)), mView(settings.view)
 {
     for (const std::string& format : mFormats)
         if (format != "png" && format != "exr") throw ValueError("unknown image format '" + format + "' (png or exr)");
@@ -45,7 +45,7 @@ void EmbreeBackend::render(const FrameView& view, const std::string& out)
     frame.terrainHigh = mTerrainHigh;
     frame.progress = view.progress;
     const RenderImage image = renderFrame(frame);
-    for (const std::string& path : frameFiles(out, view.frame)) writeFrameImage(image, path);
+    for (const std::string& path : frameFiles(out, view.frame)) writeFrameImage(image, path, mView);
     mSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 

@@ -4,6 +4,8 @@
 #include <vfield/core/error.h>
 #include <vfield/core/field_visitors.h>
 #include <vfield/core/frame_file.h>
+#include <vfield/core/image_file.h>
+#include <vfield/render/frame_image.h>
 #include <vfield/render/povray/povray_runner.h>
 
 #include <chrono>
@@ -24,7 +26,7 @@ void PovraySettings::validate() const { checkFields(*this); }
 PovrayBackend::PovrayBackend(std::vector<PovrayMesh> meshes, double terrainLow, double terrainHigh,
                              const RenderSettings& settings, const PovraySettings& povray, std::string workFolder, int threads)
     : mMeshes(std::move(meshes)), mTerrainLow(terrainLow), mTerrainHigh(terrainHigh), mSettings(settings), mPovray(povray),
-      mWorkFolder(std::move(workFolder)), mKeepScene(povray.keepScene)
+      mWorkFolder(std::move(workFolder)), mKeepScene(povray.keepScene), mView(settings.view)
 {
     if (mPovray.threads == 0) mPovray.threads = threads;
     if (settings.image.transparentSky)
@@ -81,7 +83,7 @@ void PovrayBackend::render(const FrameView& view, const std::string& out)
     pov.staticObjects = mStaticObjects;
     pov.dynamicPoses = view.poses;
     const std::string df3 = frameFileName("density", view.frame, "df3"), skyLitDf3 = frameFileName("sky_lit", view.frame, "df3"),
-                      scene = frameFileName("frame", view.frame, "pov"), rendered = frameFileName("render", view.frame, "png");
+                      scene = frameFileName("frame", view.frame, "pov"), rendered = frameFileName("render", view.frame, "exr");
     const fs::path folder(mWorkFolder);
     if (!cloud.density().empty()) {
         PovrayCloud medium;
@@ -98,9 +100,11 @@ void PovrayBackend::render(const FrameView& view, const std::string& out)
         mKeepScene = true; // a failed frame's scene files and log stay for inspection
         throw;
     }
+    // POV-Ray's scene-linear light, shown through the same view as vfield's own frames.
     const std::string image = frameFiles(out, view.frame).front();
     fs::create_directories(fs::path(image).parent_path());
-    fs::rename(folder / rendered, image);
+    writeImage(toDisplay(readImageAsFloat((folder / rendered).string()), mView), image);
+    fs::remove(folder / rendered);
     if (!mKeepScene)
         for (const std::string& file : {df3, skyLitDf3, scene, rendered + ".log"}) fs::remove(folder / file);
     mSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

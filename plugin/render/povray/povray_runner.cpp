@@ -109,11 +109,10 @@ void runPovray(const std::string& folder, const std::string& sceneFile, const st
                                      "+W" + std::to_string(image.width),
                                      "+H" + std::to_string(image.height),
                                      "+WT" + std::to_string(threads),
-                                     "-D",  // no display
-                                     "+V",  // progress lines ("Rendered 1024 of 76800 pixels"), read below
-                                     "-P",  // no pause
-                                     "+FN", // PNG
-                                     "File_Gamma=sRGB"};
+                                     "-D",   // no display
+                                     "+V",   // progress lines ("Rendered 1024 of 76800 pixels"), read below
+                                     "-P",   // no pause
+                                     "+FE"}; // OpenEXR: scene-linear, as vfield's own frames before the view
     const int grid = std::clamp(int(std::lround(std::sqrt(double(image.samplesPerPixel)))), 1, 9);
     if (quality == PovrayQuality::Preview && image.samplesPerPixel > 1) {
         // Supersampled 2 x 2 only where a pixel stands out from its neighbours.

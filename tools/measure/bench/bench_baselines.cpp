@@ -263,7 +263,7 @@ void BM_PovrayFrame(benchmark::State& state)
         cloud.skyLitPlacement = writeDf3(*lighting.skyLitDensity(), dir + "/sky_lit.df3");
         frame.cloud = cloud;
         writeTextAtomically(dir + "/frame.pov", povrayFrameText(frame));
-        runPovray(dir, "frame.pov", "frame.png", settings.image, PovrayQuality::Final, 2);
+        runPovray(dir, "frame.pov", "frame.exr", settings.image, PovrayQuality::Final, 2);
     }
 }
 BENCHMARK(BM_PovrayFrame)

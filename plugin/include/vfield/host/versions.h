@@ -4,7 +4,8 @@
 /// `vfield --version` and for bug reports: the libraries' as they report
 /// themselves at run time where they can (Embree, OpenImageIO), OpenVDB's as
 /// its headers name the library vfield was built against, POV-Ray's as the
-/// povray program the renderer would run prints it.
+/// povray program the renderer would run prints it; and the OpenColorIO
+/// config frames are shown through.
 
 #include <optional>
 #include <string>
@@ -17,6 +18,7 @@ struct Versions {
     std::string embree;                ///< "3.13.5"
     std::string openImageIO;           ///< "2.4.7"
     std::optional<std::string> povray; ///< "3.7.0.10.unofficial"; nothing when no povray is on PATH
+    std::string colourConfig;          ///< its path (vfield/render/display_view.h)
 };
 
 /// Asks each library and runs `povray --version`. Throws Error when Embree
@@ -24,7 +26,7 @@ struct Versions {
 Versions versions();
 
 /// One line per component, "vfield 0.1.0", "OpenVDB 10.0.1", ..., "POV-Ray not
-/// found" when there is none; no final newline.
+/// found" when there is none, "OpenColorIO config PATH"; no final newline.
 std::string versionReport(const Versions& versions);
 
 } // namespace vfield

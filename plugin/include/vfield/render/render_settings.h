@@ -156,6 +156,29 @@ struct ImageSettings {
     }
 };
 
+/// How the picture's scene-linear light is shown on a display, as Blender's
+/// colour management does: scaled by the exposure, then through a view of an
+/// OpenColorIO config (vfield/render/display_view.h). PNG frames are what the
+/// view shows; EXR frames keep the light as rendered.
+struct ViewSettings {
+    std::string view = "Filmic";
+    double exposure = 0.0;
+
+    void validate() const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("view", self.view)
+                  .doc("the OpenColorIO view of the sRGB display that PNG frames show: Filmic (highlights rolled off "
+                       "towards white), Standard (clipped at 1), Raw, or a view of $OCIO's config when it is set"));
+        visit(field("exposure", self.exposure)
+                  .range(-32, 32)
+                  .unit("stops")
+                  .doc("the light scaled by 2^exposure before the view; EXR frames keep the light as rendered"));
+    }
+};
+
 /// The cloud as a participating medium: density x extinction is sigma_t.
 /// Its phase function is two Henyey-Greenstein lobes,
 ///   p = (1 - backWeight) HG(anisotropy) + backWeight HG(backAnisotropy):
@@ -298,6 +321,7 @@ struct RenderSettings {
     SunSettings sun;
     SkySettings sky;
     ImageSettings image;
+    ViewSettings view;
     MediumSettings medium;
     IntegratorSettings integrator;
 
@@ -317,11 +341,13 @@ struct RenderSettings {
         visit(field("camera", self.camera).doc("a pinhole camera"));
         visit(field("sun", self.sun).doc("the sun, a directional light"));
         visit(field("sky", self.sky).doc("the sky's gradient; it lights surfaces and the cloud"));
-        visit(group("render", "the image, the cloud as a medium, and how the light is integrated", [&self](auto& render) {
-            render(inlineFields(self.image));
-            render(inlineFields(self.medium));
-            render(inlineFields(self.integrator));
-        }));
+        visit(group("render", "the image and how it is shown, the cloud as a medium, and how the light is integrated",
+                    [&self](auto& render) {
+                        render(inlineFields(self.image));
+                        render(inlineFields(self.view));
+                        render(inlineFields(self.medium));
+                        render(inlineFields(self.integrator));
+                    }));
     }
 };
 

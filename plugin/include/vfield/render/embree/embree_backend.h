@@ -5,6 +5,7 @@
 /// frame), the cloud through OpenVDB, with the settings' integrator (fast or
 /// reference). Writes OUT/frame.####.png and/or .exr (frame_image.h).
 
+#include <vfield/render/display_view.h>
 #include <vfield/render/embree/surfaces.h>
 #include <vfield/render/materials.h>
 #include <vfield/render/render_backend.h>
@@ -20,7 +21,8 @@ public:
     /// settings and surfaces must outlive the back-end; the caller places
     /// the dynamic objects in surfaces (and commits) before each frame.
     /// formats: "png" and/or "exr". terrainLow/High: heights the terrain's
-    /// colours span. Throws ValueError for an unknown format.
+    /// colours span. Throws ValueError for an unknown format, OptionError for
+    /// a view the display has not.
     EmbreeBackend(const RenderSettings& settings, const SurfaceScene& surfaces, std::map<int, SurfaceMaterial> materials,
                   double terrainLow, double terrainHigh, std::vector<std::string> formats);
 
@@ -36,6 +38,7 @@ private:
     std::map<int, SurfaceMaterial> mMaterials;
     double mTerrainLow, mTerrainHigh;
     std::vector<std::string> mFormats;
+    DisplayView mView;
 };
 
 /// The version of the Embree library loaded ("3.13.5"), as a device of its

@@ -9,6 +9,7 @@
 /// draws no haze: cannotDraw() says so for the settings that ask for more.
 
 #include <vfield/render/cloud_lighting.h>
+#include <vfield/render/display_view.h>
 #include <vfield/render/povray/povray_scene.h>
 #include <vfield/render/povray/povray_settings.h>
 #include <vfield/render/render_backend.h>
@@ -47,6 +48,7 @@ private:
     PovraySettings mPovray;
     std::string mWorkFolder;
     bool mKeepScene;
+    DisplayView mView;
     std::vector<int> mStaticObjects;
     bool mPrepared = false;
 };

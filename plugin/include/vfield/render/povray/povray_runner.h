@@ -14,11 +14,10 @@
 
 namespace vfield {
 
-/// Renders folder/sceneFile to folder/imageFile (8-bit sRGB PNG) at the
-/// image's size. samplesPerPixel 1 traces one ray through each pixel's centre;
-/// more supersample every pixel on an n x n grid, n = round(sqrt(samples)), at
-/// most 9 (PovrayQuality::Final), or only pixels that differ from their
-/// neighbours, 2 x 2 (Preview). threads: POV-Ray's render threads (>= 1); its media sampling
+/// Renders folder/sceneFile to folder/imageFile (OpenEXR: scene-linear light,
+/// which the back-end shows through the display view) at the image's size. samplesPerPixel 1 traces one ray through each pixel's
+/// centre; more supersample every pixel on an n x n grid, n = round(sqrt(samples)), at most 9 (PovrayQuality::Final), or only
+/// pixels that differ from their neighbours, 2 x 2 (Preview). threads: POV-Ray's render threads (>= 1); its media sampling
 /// differs between thread counts, and 1 makes its images reproducible.
 /// POV-Ray's output goes to folder/<imageFile>.log; progress, if set, is told
 /// the fraction of pixels POV-Ray reports rendered (from the calling thread)
