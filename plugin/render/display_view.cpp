@@ -29,20 +29,12 @@ std::string displayConfigPath()
 
 namespace {
 
-std::string oneLine(std::string text)
+/// OpenColorIO's message on one line, as vfield's errors are.
+std::string errorOf(OIIO::ColorConfig& config)
 {
-    for (char& c : text)
-        if (c == '\n') c = ' ';
-    while (!text.empty() && text.back() == ' ') text.pop_back();
-    return text;
-}
-
-std::string viewsOf(const OIIO::ColorConfig& config, const std::string& display)
-{
-    std::string names;
-    for (int i = 0; i < config.getNumViews(display); ++i)
-        names += (names.empty() ? "" : ", ") + std::string(config.getViewNameByIndex(display, i));
-    return names;
+    std::string why = config.geterror();
+    std::replace(why.begin(), why.end(), '\n', ' ');
+    return why;
 }
 
 } // namespace
@@ -54,20 +46,23 @@ DisplayView::DisplayView(const ViewSettings& settings)
     if (!OIIO::ColorConfig::supportsOpenColorIO())
         throw Error("this OpenImageIO was built without OpenColorIO: frames cannot be shown through a view");
     OIIO::ColorConfig config(mConfigPath);
-    if (config.has_error()) throw FileError(mConfigPath, "cannot read the OpenColorIO config: " + oneLine(config.geterror()));
+    if (config.has_error()) throw FileError(mConfigPath, "cannot read the OpenColorIO config: " + errorOf(config));
     const char* display = config.getDefaultDisplayName();
     const char* sceneLinear = config.getColorSpaceNameByRole("scene_linear");
     if (!display || !sceneLinear) throw FileError(mConfigPath, "the OpenColorIO config needs a display and a scene_linear role");
     mDisplay = display;
-    const std::string views = viewsOf(config, mDisplay);
+    std::string views;
     bool known = false;
-    for (int i = 0; i < config.getNumViews(mDisplay); ++i) known = known || mView == config.getViewNameByIndex(mDisplay, i);
+    for (int i = 0; i < config.getNumViews(mDisplay); ++i) {
+        const std::string name = config.getViewNameByIndex(mDisplay, i);
+        views += (views.empty() ? "" : ", ") + name;
+        known = known || name == mView;
+    }
     if (!known)
         throw OptionError("render/view", "expected a view of display '" + mDisplay + "' in " + mConfigPath + " (" + views +
                                              "), got '" + mView + "'");
     mProcessor = config.createDisplayTransform(mDisplay, mView, sceneLinear);
-    if (!mProcessor)
-        throw FileError(mConfigPath, "cannot make the view '" + mView + "': " + oneLine(config.geterror()));
+    if (!mProcessor) throw FileError(mConfigPath, "cannot make the view '" + mView + "': " + errorOf(config));
 }
 
 void DisplayView::apply(float* rgb, std::size_t pixels) const

@@ -125,8 +125,7 @@ TEST_CASE("display view: exposure scales the light before the view", "[render][c
     for (int c = 0; c < 3; ++c) CHECK(a[c] == b[c]);
 }
 
-TEST_CASE("display view: a view the config lacks is refused, naming render/view and the views there are",
-          "[render][colour]")
+TEST_CASE("display view: a view the config lacks is refused, naming render/view and the views there are", "[render][colour]")
 {
     try {
         viewNamed("AgX");
