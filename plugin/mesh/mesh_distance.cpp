@@ -37,7 +37,11 @@ MeshDistance::MeshDistance(const TriangleMesh& mesh, double voxelSize, double ex
     // Bands are in voxels; at least the three a trilinear lookup and a central difference need.
     const float exterior = float(std::max(3.0, std::ceil(exteriorBand / voxelSize)));
     const float interior = float(std::max(3.0, std::ceil(interiorBand / voxelSize)));
-    ProgressInterrupter interrupter(progress);
+    ProgressInterrupter progressInterrupter(progress);
+    // By the base's reference: libopenvdb's own instantiation for
+    // NullInterrupter is used (virtual calls reach ours), where our type
+    // would instantiate the whole conversion here again.
+    openvdb::util::NullInterrupter& interrupter = progressInterrupter;
     mGrid = openvdb::tools::meshToSignedDistanceField<openvdb::FloatGrid>(interrupter, *transform, mesh.points, triangles, {},
                                                                           exterior, interior);
     mExteriorBand = exterior * voxelSize;

@@ -10,10 +10,9 @@
 
 #include "fine_grid.h"
 
+#include <vfield/core/vdb_trees.h>
 #include <vfield/sim/particles.h>
 #include <vfield/volume/volume_detail.h>
-
-#include <openvdb/openvdb.h>
 
 #include <vector>
 

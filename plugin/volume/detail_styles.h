@@ -7,9 +7,8 @@
 
 #include "fine_grid.h"
 
+#include <vfield/core/vdb_trees.h>
 #include <vfield/volume/volume_detail.h>
-
-#include <openvdb/openvdb.h>
 
 #include <vector>
 

@@ -5,9 +5,8 @@
 /// that the detailed density is resampled on, read from the splat's voxels
 /// by trilinear taps.
 
+#include <vfield/core/vdb_trees.h>
 #include <vfield/volume/density_splat.h>
-
-#include <openvdb/openvdb.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

@@ -4,7 +4,7 @@
 /// each voxel's closest point on it, over a band around it (the displaced
 /// detail moves that surface).
 
-#include <openvdb/openvdb.h>
+#include <vfield/core/vdb_trees.h>
 
 namespace vfield {
 

@@ -5,10 +5,9 @@
 #include <vfield/core/error.h>
 #include <vfield/core/vdb_file.h>
 #include <vfield/image/grid_compare.h>
+#include <vfield/volume/particle_grid.h>
 
 #include <catch2/catch.hpp>
-
-#include <openvdb/points/PointConversion.h>
 
 #include <algorithm>
 
@@ -95,12 +94,18 @@ TEST_CASE("grid compare: point grids compare by hash", "[compare]")
 {
     const std::string dir = test::scratchDir("grid-compare-points");
     openvdb::initialize();
+    // The particle grids vfield writes.
     const auto points = [](float x) {
-        const std::vector<openvdb::Vec3R> positions{{x, 0, 0}, {0, 1, 0}};
-        const openvdb::math::Transform::Ptr transform = openvdb::math::Transform::createLinearTransform(0.5);
-        openvdb::points::PointDataGrid::Ptr grid =
-            openvdb::points::createPointDataGrid<openvdb::points::NullCodec, openvdb::points::PointDataGrid>(positions,
-                                                                                                             *transform);
+        ParticleSet particles;
+        for (const Vec3f& p : {Vec3f(x, 0, 0), Vec3f(0, 1, 0)}) {
+            particles.position.push_back(p);
+            particles.velocity.push_back(Vec3f(0.0f));
+            particles.rest.push_back(p);
+            particles.id.push_back(uint32_t(particles.id.size()));
+            particles.radius.push_back(0.5f);
+            particles.cloud.push_back(0);
+        }
+        openvdb::GridBase::Ptr grid = makeParticleGrid(particles);
         grid->setName("particles");
         return grid;
     };

@@ -16,7 +16,8 @@
 /// nothing to make, so one per ray or per task is free (a registered one
 /// takes a lock on the tree's shared table of accessors, made and dropped).
 
-#include <openvdb/openvdb.h>
+#include <vfield/core/vdb_trees.h>
+
 #include <openvdb/tools/Interpolation.h>
 
 #include <limits>

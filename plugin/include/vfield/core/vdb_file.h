@@ -6,9 +6,7 @@
 /// OpenVDB stamps every file with a random id.
 
 #include <vfield/core/math.h>
-
-#include <openvdb/Grid.h>
-#include <openvdb/openvdb.h>
+#include <vfield/core/vdb_trees.h>
 
 #include <cstdint>
 #include <string>

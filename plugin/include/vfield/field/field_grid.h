@@ -10,10 +10,8 @@
 /// node become tiles, so memory follows the octree, not the dense cube.
 
 #include <vfield/core/math.h>
+#include <vfield/core/vdb_trees.h>
 #include <vfield/field/octree_field.h>
-
-#include <openvdb/Grid.h>
-#include <openvdb/openvdb.h>
 
 #include <optional>
 

@@ -33,10 +33,9 @@
 
 #include <vfield/core/math.h>
 #include <vfield/core/trilinear_sampler.h>
+#include <vfield/core/vdb_trees.h>
 #include <vfield/field/octree_field.h>
 #include <vfield/mesh/triangle_mesh.h>
-
-#include <openvdb/openvdb.h>
 
 #include <functional>
 #include <memory>

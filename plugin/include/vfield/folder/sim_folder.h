@@ -17,12 +17,11 @@
 /// Every file is written atomically.
 
 #include <vfield/core/fields.h>
+#include <vfield/core/vdb_trees.h>
 #include <vfield/folder/run_state.h>
 #include <vfield/folder/stats_file.h>
 #include <vfield/folder/tracks.h>
 #include <vfield/volume/density_splat.h>
-
-#include <openvdb/openvdb.h>
 
 #include <cstdint>
 #include <map>

@@ -9,9 +9,8 @@
 
 #include <vfield/core/math.h>
 #include <vfield/core/trilinear_sampler.h>
+#include <vfield/core/vdb_trees.h>
 #include <vfield/mesh/triangle_mesh.h>
-
-#include <openvdb/openvdb.h>
 
 #include <functional>
 #include <vector>

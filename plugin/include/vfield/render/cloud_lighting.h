@@ -10,9 +10,8 @@
 /// POV-Ray export writes the sky-lit density from it.
 
 #include <vfield/core/dense_grid.h>
+#include <vfield/core/vdb_trees.h>
 #include <vfield/render/render_settings.h>
-
-#include <openvdb/openvdb.h>
 
 #include <functional>
 

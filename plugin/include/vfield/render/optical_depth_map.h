@@ -20,8 +20,7 @@
 
 #include <vfield/core/math.h>
 #include <vfield/core/trilinear_sampler.h>
-
-#include <openvdb/openvdb.h>
+#include <vfield/core/vdb_trees.h>
 
 namespace vfield {
 

@@ -29,14 +29,13 @@
 /// and carried along, never inside. StepStats counts these contacts, so
 /// where the field falls short shows.
 
+#include <vfield/core/vdb_trees.h>
 #include <vfield/field/repulsion_field.h>
 #include <vfield/mesh/mesh_distance.h>
 #include <vfield/sim/flight.h>
 #include <vfield/sim/particles.h>
 #include <vfield/sim/scene_setup.h>
 #include <vfield/sim/turbulence.h>
-
-#include <openvdb/openvdb.h>
 
 #include <functional>
 #include <iosfwd>

@@ -21,11 +21,10 @@
 /// the merge of its shards'.
 
 #include <vfield/core/fields.h>
+#include <vfield/core/vdb_trees.h>
 #include <vfield/sim/particles.h>
 #include <vfield/volume/particle_grid.h>
 #include <vfield/volume/volume_detail.h>
-
-#include <openvdb/openvdb.h>
 
 namespace vfield {
 

@@ -7,9 +7,8 @@
 /// grid's float metadata rest2Weight (ParticleSet::rest2Weight).
 
 #include <vfield/core/fields.h>
+#include <vfield/core/vdb_trees.h>
 #include <vfield/sim/particles.h>
-
-#include <openvdb/openvdb.h>
 
 namespace vfield {
 

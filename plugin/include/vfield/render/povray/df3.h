@@ -6,8 +6,7 @@
 /// file comes with where the cube sits in the world and what 65535 stands for.
 
 #include <vfield/core/math.h>
-
-#include <openvdb/openvdb.h>
+#include <vfield/core/vdb_trees.h>
 
 #include <cstdint>
 #include <string>
