@@ -10,15 +10,15 @@
 
 namespace vfield {
 
-void writeImage(const OIIO::ImageBuf& image, const std::string& path)
+void writeImage(const OIIO::ImageBuf& image, const std::string& path, OIIO::TypeDesc exrType)
 {
     writeFileAtomically(path, [&](const std::string& temporary) {
         std::string lower = path;
         std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
         const bool isExr = lower.size() > 4 && lower.compare(lower.size() - 4, 4, ".exr") == 0;
-        // EXR: colours as half floats; a depth channel as 32-bit floats, since
+        // A depth channel as 32-bit floats whatever the colours are, since
         // half keeps only 11 bits (0.25 units of precision at 300 units).
-        std::vector<OIIO::TypeDesc> formats(std::size_t(image.nchannels()), isExr ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::UINT8);
+        std::vector<OIIO::TypeDesc> formats(std::size_t(image.nchannels()), isExr ? exrType : OIIO::TypeDesc::UINT8);
         if (isExr && image.spec().z_channel >= 0) formats[std::size_t(image.spec().z_channel)] = OIIO::TypeDesc::FLOAT;
         OIIO::ImageBuf out(image.spec());
         out.copy_pixels(image);

@@ -35,6 +35,16 @@ Vec3d Camera::direction(double x, double y) const
     return (mForward + u * mRight + v * mUp).unitSafe();
 }
 
+std::optional<Vec2d> Camera::imagePoint(const Vec3d& world) const
+{
+    const Vec3d d = world - mPosition;
+    const double depth = d.dot(mForward);
+    if (depth <= 0.0) return std::nullopt;
+    // direction()'s mapping inverted.
+    return Vec2d((d.dot(mRight) / (depth * mTanHalf * mAspect) + 1.0) * 0.5 * mWidth,
+                 (1.0 - d.dot(mUp) / (depth * mTanHalf)) * 0.5 * mHeight);
+}
+
 ImageRegion Camera::regionOf(const BBoxd& box) const
 {
     const ImageRegion image{0.0, 0.0, double(mWidth), double(mHeight)};
@@ -42,12 +52,9 @@ ImageRegion Camera::regionOf(const BBoxd& box) const
     for (int corner = 0; corner < 8; ++corner) {
         const Vec3d p((corner & 1 ? box.max() : box.min())[0], (corner & 2 ? box.max() : box.min())[1],
                       (corner & 4 ? box.max() : box.min())[2]);
-        const Vec3d d = p - mPosition;
-        const double depth = d.dot(mForward);
-        if (depth <= 0.0) return image;
-        // direction()'s mapping inverted.
-        const double x = (d.dot(mRight) / (depth * mTanHalf * mAspect) + 1.0) * 0.5 * mWidth;
-        const double y = (1.0 - d.dot(mUp) / (depth * mTanHalf)) * 0.5 * mHeight;
+        const std::optional<Vec2d> point = imagePoint(p);
+        if (!point) return image;
+        const double x = (*point)[0], y = (*point)[1];
         region = {std::min(region.x0, x), std::min(region.y0, y), std::max(region.x1, x), std::max(region.y1, y)};
     }
     return {std::max(region.x0, image.x0), std::max(region.y0, image.y0), std::min(region.x1, image.x1),

@@ -5,6 +5,8 @@
 
 #include <OpenImageIO/imagebufalgo.h>
 
+#include <nlohmann/json.hpp>
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -51,29 +53,68 @@ OIIO::ImageBuf toDisplay(const OIIO::ImageBuf& linear, const DisplayView& view)
     return buf;
 }
 
+namespace {
+
+/// A layer of the linear image: its channels' names, and where its values are
+/// (channels.size() floats a pixel).
+struct Layer {
+    std::vector<std::string> channels;
+    const std::vector<float>* values;
+};
+
+std::vector<Layer> layersOf(const RenderImage& image)
+{
+    std::vector<Layer> layers{{{"R", "G", "B", "A"}, &image.rgba}, {{"Z"}, &image.depth}};
+    const RenderPasses& passes = image.passes;
+    if (passes.empty()) return layers;
+    layers.push_back({{"cloud.R", "cloud.G", "cloud.B", "cloud.A"}, &passes.cloud});
+    layers.push_back({{"surfaces.R", "surfaces.G", "surfaces.B", "surfaces.A"}, &passes.surfaces});
+    layers.push_back({{"shadow.X"}, &passes.shadow});
+    layers.push_back({{"normal.X", "normal.Y", "normal.Z"}, &passes.normal});
+    layers.push_back({{"objectIndex.X"}, &passes.objectIndex});
+    return layers;
+}
+
+} // namespace
+
 OIIO::ImageBuf toLinear(const RenderImage& image)
 {
-    OIIO::ImageSpec spec(image.width, image.height, 5, OIIO::TypeDesc::FLOAT);
-    spec.channelnames = {"R", "G", "B", "A", "Z"};
+    const std::vector<Layer> layers = layersOf(image);
+    std::vector<std::string> names;
+    for (const Layer& layer : layers) names.insert(names.end(), layer.channels.begin(), layer.channels.end());
+    const int channels = int(names.size());
+    OIIO::ImageSpec spec(image.width, image.height, channels, OIIO::TypeDesc::FLOAT);
+    spec.channelnames = names;
     spec.alpha_channel = 3;
     spec.z_channel = 4;
     spec.attribute("colorSpace", kWorkingSpaceName);
     spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), kWorkingSpaceChromaticities);
+    if (!image.passes.empty()) {
+        // The objects objectIndex.X counts, as {"1": "terrain", ...}.
+        nlohmann::json objects = nlohmann::json::object();
+        for (std::size_t i = 0; i < image.passes.objectNames.size(); ++i)
+            objects[std::to_string(i + 1)] = image.passes.objectNames[i];
+        spec.attribute("vfield:objectIndex", objects.dump());
+    }
     OIIO::ImageBuf buf(spec);
     float* linear = static_cast<float*>(buf.localpixels());
     tbb::parallel_for(0, image.height, [&](int y) {
         for (std::size_t i = std::size_t(y) * image.width; i < std::size_t(y + 1) * image.width; ++i) {
-            for (int c = 0; c < 4; ++c) linear[5 * i + c] = image.rgba[4 * i + c];
-            linear[5 * i + 4] = image.depth[i];
+            float* out = &linear[std::size_t(channels) * i];
+            for (const Layer& layer : layers) {
+                const std::size_t n = layer.channels.size();
+                for (std::size_t c = 0; c < n; ++c) *out++ = (*layer.values)[n * i + c];
+            }
         }
     });
     return buf;
 }
 
-void writeFrameImage(const RenderImage& image, const std::string& path, const DisplayView& view)
+void writeFrameImage(const RenderImage& image, const std::string& path, const DisplayView& view, ExrDepth exrDepth)
 {
     if (endsWith(path, ".png")) writeImage(toDisplay(image, view), path);
-    else if (endsWith(path, ".exr")) writeImage(toLinear(image), path);
+    else if (endsWith(path, ".exr"))
+        writeImage(toLinear(image), path, exrDepth == ExrDepth::Float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::HALF);
     else throw FileError(path, "frames are written as .png or .exr");
 }
 

@@ -14,7 +14,10 @@ namespace {
 
 std::unique_ptr<RenderBackend> makeEmbree(const BackendInputs& s)
 {
-    return std::make_unique<EmbreeBackend>(s.scene->render, *s.surfaces, *s.materials, s.terrainLow, s.terrainHigh, s.formats);
+    std::vector<std::string> objectNames;
+    for (const ObjectSettings& object : s.scene->simulation.objects) objectNames.push_back(object.name);
+    return std::make_unique<EmbreeBackend>(s.scene->render, *s.surfaces, *s.materials, s.terrainLow, s.terrainHigh, s.formats,
+                                           std::move(objectNames));
 }
 
 std::unique_ptr<RenderBackend> makePovray(const BackendInputs& s)

@@ -129,7 +129,7 @@ def silhouettes_agree(scene_path, sim, work, vfield):
     bpy.ops.render.render(write_still=True)
     ours = os.path.join(work, "vfield")
     subprocess.run([vfield, "--quiet", "render", scene_path, "--sim", sim, "-o", ours, "--frames", str(CHECKED_FRAME),
-                    "--format", "exr", "--transparent-sky"], check=True)
+                    "--format", "exr", "--transparent-sky", "--set", "/render/passes=false"], check=True)
     cycles_covered, cycles_red = masks(cycles_frame)
     vfield_covered, vfield_red = masks(os.path.join(ours, f"frame.{CHECKED_FRAME:04d}.exr"))
     everything, airplane = iou(cycles_covered, vfield_covered), iou(cycles_red, vfield_red)

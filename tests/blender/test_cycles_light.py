@@ -136,7 +136,7 @@ def vfield_mean(args, sim, lighting, max_bounces, work):
     out = os.path.join(work, f"vfield_{max_bounces}")
     subprocess.run([args.vfield, "--quiet", "render", args.scene, "--sim", sim, "-o", out, "--frames", "1",
                     "--integrator", "reference", "--spp", str(VFIELD_SAMPLES), "--format", "exr",
-                    "--set", f"/render/maxBounces={max_bounces}", *lighting], check=True)
+                    "--set", f"/render/maxBounces={max_bounces}", "--set", "/render/passes=false", *lighting], check=True)
     return mean_radiance(os.path.join(out, "frame.0001.exr"))
 
 

@@ -116,7 +116,7 @@ CloudInBoth renderCloudInBoth(const openvdb::FloatGrid::Ptr& density, RenderSett
     view.frame = 1;
     view.camera = Camera::fromSettings(settings.camera, settings.image.width, settings.image.height);
     view.cloud = &lighting;
-    EmbreeBackend embree(settings, nothing, {}, 0.0, 1.0, {"png"});
+    EmbreeBackend embree(settings, nothing, {}, 0.0, 1.0, {"png"}, {});
     PovrayBackend povray({}, 0.0, 1.0, settings, povraySettings, dir + "/povray-scene", 2);
     for (RenderBackend* backend : {static_cast<RenderBackend*>(&embree), static_cast<RenderBackend*>(&povray)}) {
         backend->prepare();

@@ -378,6 +378,89 @@ TEST_CASE("render: EXR frames hold linear Rec.709 half-float colour and 32-bit d
     CHECK(png.getchannel(x, y, 0, 0) == Approx(srgb).margin(1.0 / 255));
 }
 
+TEST_CASE("render passes: the cloud over the surfaces is the beauty, by oiiotool --over, for both integrators", "[render]")
+{
+    SmallScene scene;
+    scene.frame.passes = true;
+    scene.settings.image.transparentSky = true; // the surfaces' alpha matters too
+    const LitCloud cloud(constantBox({-6, 2, -3}, {6, 6, 3}, 0.25, 0.6f), scene.settings, scene.settings.sun.direction,
+                         &scene.surfaces);
+    scene.frame.volume = &cloud.volume;
+    const std::string dir = test::scratchDir("render-passes-over");
+    for (const IntegratorKind kind : {IntegratorKind::Fast, IntegratorKind::Reference}) {
+        INFO(enumName(kind));
+        scene.settings.integrator.kind = kind;
+        const std::string frame = dir + "/frame.exr", over = dir + "/over.exr", beauty = dir + "/beauty.exr";
+        writeFrameImage(renderFrame(scene.frame), frame, DisplayView(scene.settings.view), ExrDepth::Float);
+        const std::string composite = "oiiotool " + frame + " --ch R=cloud.R,G=cloud.G,B=cloud.B,A=cloud.A " + frame +
+                                      " --ch R=surfaces.R,G=surfaces.G,B=surfaces.B,A=surfaces.A --over -o " + over +
+                                      " && oiiotool " + frame + " --ch R,G,B,A -o " + beauty + " && idiff -q -fail 1e-4 " + over +
+                                      " " + beauty;
+        CHECK(std::system(composite.c_str()) == 0);
+    }
+}
+
+TEST_CASE("render passes: each pixel names the nearest object, its normal and the cloud's shadow on it", "[render]")
+{
+    SmallScene scene;
+    scene.frame.passes = true;
+    scene.settings.sun.direction = Vec3d(0, 1, 0);
+    // Over the ground left of the pillar: its shadow falls straight down.
+    const LitCloud cloud(constantBox({-18, 3, -3}, {-8, 4, 3}, 0.25, 2.0f), scene.settings, scene.settings.sun.direction,
+                         &scene.surfaces);
+    scene.frame.volume = &cloud.volume;
+    const RenderImage image = renderFrame(scene.frame);
+    const RenderPasses& passes = image.passes;
+    const auto at = [&](const std::vector<float>& pass, int channels, const Vec3d& world, int channel = 0) {
+        const Vec2d pixel = *scene.frame.camera.imagePoint(world);
+        return pass[std::size_t(channels) * (std::size_t(pixel[1]) * image.width + std::size_t(pixel[0])) + channel];
+    };
+    // The pillar (object 1) in front, the ground (object 0) around it, the sky above.
+    CHECK(at(passes.objectIndex, 1, {0, 3, 2}) == 2.0f);
+    CHECK(at(passes.objectIndex, 1, {10, 0, 5}) == 1.0f);
+    CHECK(passes.objectIndex[0] == 0.0f);
+    // The pillar's front face looks at +z; the ground up.
+    CHECK(at(passes.normal, 3, {0, 3, 2}, 2) == Approx(1.0).margin(0.05));
+    CHECK(at(passes.normal, 3, {10, 0, 5}, 1) == Approx(1.0).margin(0.05));
+    // Under the cloud the ground is in its shadow (an optical depth of about
+    // 2: most of the sun is taken); beside it, none.
+    CHECK(at(passes.shadow, 1, {-13, 0, 0}) > 0.3f);
+    CHECK(at(passes.shadow, 1, {10, 0, 5}) == 0.0f);
+    CHECK(passes.shadow[0] == 0.0f);
+    // The EXR names the layers as Nuke and Blender do, and the objects in its header.
+    const std::string path = test::scratchDir("render-passes-names") + "/frame.exr";
+    RenderImage named = image;
+    named.passes.objectNames = {"ground", "pillar"};
+    writeFrameImage(named, path, DisplayView(scene.settings.view));
+    OIIO::ImageBuf exr(path);
+    REQUIRE(exr.read());
+    std::vector<std::string> channels = exr.spec().channelnames;
+    std::sort(channels.begin(), channels.end());
+    CHECK(channels == std::vector<std::string>{"A", "B", "G", "R", "Z", "cloud.A", "cloud.B", "cloud.G", "cloud.R", "normal.X",
+                                               "normal.Y", "normal.Z", "objectIndex.X", "shadow.X", "surfaces.A", "surfaces.B",
+                                               "surfaces.G", "surfaces.R"});
+    CHECK(exr.spec().get_string_attribute("vfield:objectIndex") == R"({"1":"ground","2":"pillar"})");
+}
+
+TEST_CASE("render passes: the beauty is the same with and without them, bit for bit", "[render]")
+{
+    SmallScene scene;
+    const LitCloud cloud(constantBox({-6, 2, -3}, {6, 6, 3}, 0.25, 0.6f), scene.settings, scene.settings.sun.direction,
+                         &scene.surfaces);
+    scene.frame.volume = &cloud.volume;
+    for (const IntegratorKind kind : {IntegratorKind::Fast, IntegratorKind::Reference}) {
+        scene.settings.integrator.kind = kind;
+        scene.frame.passes = true;
+        const RenderImage with = renderFrame(scene.frame);
+        scene.frame.passes = false;
+        const RenderImage without = renderFrame(scene.frame);
+        CHECK(without.passes.empty());
+        CHECK_FALSE(with.passes.empty());
+        CHECK(with.rgba == without.rgba);
+        CHECK(with.depth == without.depth);
+    }
+}
+
 TEST_CASE("render: EXR frames composite over a plate with OIIO's over", "[render]")
 {
     // Premultiplied RGBA: a drawn sky is opaque and hides the plate; a

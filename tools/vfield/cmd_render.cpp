@@ -40,7 +40,9 @@ void addRenderOptions(CLI::App& command, RenderCliOptions& o, SceneCliOptions& s
         ->capture_default_str();
     addRenderShorthands(command, scene);
     addPovrayShorthands(command, scene);
-    command.add_option("--format", o.formats, "Image files: png (8-bit sRGB), exr (half-float, with depth) or both")
+    command
+        .add_option("--format", o.formats,
+                    "Image files: png (8-bit, through the view), exr (scene-linear, with depth and the passes) or both")
         ->type_name("png|exr|png,exr")
         ->check(CLI::IsMember({"png", "exr", "png,exr", "exr,png"}).description(""))
         ->capture_default_str();

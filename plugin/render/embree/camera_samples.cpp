@@ -6,6 +6,18 @@
 
 namespace vfield {
 
+RenderPasses allocatePasses(int width, int height)
+{
+    const std::size_t pixels = std::size_t(width) * height;
+    RenderPasses passes;
+    passes.cloud.assign(4 * pixels, 0.0f);
+    passes.surfaces.assign(4 * pixels, 0.0f);
+    passes.shadow.assign(pixels, 0.0f);
+    passes.normal.assign(3 * pixels, 0.0f);
+    passes.objectIndex.assign(pixels, 0.0f);
+    return passes;
+}
+
 std::vector<uint8_t> pixelsThatStandOut(const RenderImage& firstSamples, double threshold)
 {
     const int width = firstSamples.width, height = firstSamples.height;

@@ -7,6 +7,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 
@@ -14,9 +15,9 @@ namespace vfield {
 
 EmbreeBackend::EmbreeBackend(const RenderSettings& settings, const SurfaceScene& surfaces,
                              std::map<int, SurfaceMaterial> materials, double terrainLow, double terrainHigh,
-                             std::vector<std::string> formats)
+                             std::vector<std::string> formats, std::vector<std::string> objectNames)
     : mSettings(settings), mSurfaces(surfaces), mMaterials(std::move(materials)), mTerrainLow(terrainLow),
-      mTerrainHigh(terrainHigh), mFormats(std::move(formats)), mView(settings.view)
+      mTerrainHigh(terrainHigh), mFormats(std::move(formats)), mObjectNames(std::move(objectNames)), mView(settings.view)
 {
     for (const std::string& format : mFormats)
         if (format != "png" && format != "exr") throw ValueError("unknown image format '" + format + "' (png or exr)");
@@ -44,8 +45,11 @@ void EmbreeBackend::render(const FrameView& view, const std::string& out)
     frame.terrainLow = mTerrainLow;
     frame.terrainHigh = mTerrainHigh;
     frame.progress = view.progress;
-    const RenderImage image = renderFrame(frame);
-    for (const std::string& path : frameFiles(out, view.frame)) writeFrameImage(image, path, mView);
+    // Only EXR frames hold them.
+    frame.passes = mSettings.image.passes && std::find(mFormats.begin(), mFormats.end(), "exr") != mFormats.end();
+    RenderImage image = renderFrame(frame);
+    image.passes.objectNames = mObjectNames;
+    for (const std::string& path : frameFiles(out, view.frame)) writeFrameImage(image, path, mView, mSettings.image.exrDepth);
     mSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 

@@ -18,7 +18,7 @@ RenderImage renderReference(const FrameToRender& f)
     return renderCameraSamples(frame, [&] {
         return [&, tracer = PathTracer(frame, medium)](const Vec3d& cameraDir, SampleRandom& random, uint32_t) mutable {
             CameraSample seen;
-            seen.radiance = tracer.radiance(frame.camera.position(), cameraDir, PathTracer::Start::Camera, random, &seen);
+            tracer.radiance(frame.camera.position(), cameraDir, PathTracer::Start::Camera, random, &seen);
             return seen;
         };
     });

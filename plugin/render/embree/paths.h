@@ -219,24 +219,35 @@ public:
     enum class Start { Camera, Scattered };
 
     /// The radiance carried back along the path that leaves `origin` along
-    /// `dir` (unit). From the camera, `seen` receives the first surface's
-    /// depth, and the result is what the camera sees (the sky's glow, haze);
-    /// from a scattering point, it is the light of the path's later vertices
+    /// `dir` (unit). From the camera, `seen` receives what the camera sees
+    /// (the sky's glow, haze), as the cloud's light where the path first
+    /// scatters in the cloud and as what lies behind it otherwise, and the
+    /// first surface's depth, object, normal and cloud shadow; from a
+    /// scattering point, the result is the light of the path's later vertices
     /// alone, weight 1 after that scattering.
     Vec3d radiance(Vec3d origin, Vec3d dir, Start start, SampleRandom& random, CameraSample* seen = nullptr)
     {
         const RenderSettings& s = mSettings;
         const bool fromCamera = start == Start::Camera;
         Vec3d radiance(0.0), weight(1.0);
-        double firstDistance = -1.0; // of the camera ray's event; none: the sky
+        double firstDistance = -1.0;  // of the camera ray's event; none: the sky
+        bool inCloud = false;         // the camera ray's event is a scattering
+        SurfaceShading cameraSurface; // of the camera ray's surface, in front or behind its event
         for (int events = fromCamera ? 0 : 1;;) {
             const bool cameraRay = fromCamera && events == 0;
             SurfaceHit hit;
             bool isSurface = false;
             const std::optional<double> scatter = nextEvent(origin, dir, cameraRay, random, hit, isSurface);
             if (cameraRay) {
-                if (isSurface && seen) seen->depth = float(hit.distance);
                 if (scatter || isSurface) firstDistance = scatter ? *scatter : hit.distance;
+                inCloud = scatter.has_value();
+                if (isSurface) {
+                    // Seen from the camera, the noise as fine as its pixel (as the fast integrator draws it).
+                    cameraSurface = surfaceShading(
+                        mFrame, hit,
+                        surfaceNoise(surfaceMaterial(mFrame, hit.object), hit.position, pixelFootprint(mFrame, hit, dir)));
+                    if (seen) seeSurface(hit, cameraSurface, *seen);
+                }
             }
             if (scatter) {
                 const Vec3d p = origin + dir * *scatter;
@@ -246,13 +257,8 @@ public:
                 dir = scatteredDirection(dir, random);
                 origin = p;
             } else if (isSurface) {
-                // Seen from the camera, the noise as fine as its pixel (as the fast integrator draws it).
-                const SurfaceShading surface = cameraRay
-                                                   ? surfaceShading(mFrame, hit,
-                                                                    surfaceNoise(surfaceMaterial(mFrame, hit.object),
-                                                                                 hit.position, pixelFootprint(mFrame, hit, dir)))
-                                                   : surfaceShading(mFrame, hit);
-                const Vec3d offset = hit.position + hit.geometricNormal * 1e-3 * (1.0 + hit.distance);
+                const SurfaceShading surface = cameraRay ? cameraSurface : surfaceShading(mFrame, hit);
+                const Vec3d offset = surfaceOffset(hit);
                 const double cosSun = surface.normal.dot(mToSun);
                 if (cosSun > 0.0)
                     radiance += weight * surface.albedo * mSunRadiance * (cosSun / M_PI * sunReaching(offset, random));
@@ -277,8 +283,15 @@ public:
             }
         }
         if (!fromCamera) return radiance;
-        if (seen) seen->alpha = firstDistance >= 0.0 || !s.image.transparentSky ? 1.0 : 0.0;
-        return firstDistance >= 0.0 ? throughHaze(s.sky, radiance, firstDistance) : radiance;
+        const Vec3d seenRadiance = firstDistance >= 0.0 ? throughHaze(s.sky, radiance, firstDistance) : radiance;
+        if (seen && inCloud) {
+            seen->cloud = seenRadiance;
+            seen->transmittance = 0.0;
+        } else if (seen) {
+            seen->behind = seenRadiance;
+            seen->behindAlpha = firstDistance >= 0.0 || !s.image.transparentSky ? 1.0 : 0.0;
+        }
+        return seenRadiance;
     }
 
     /// A direction after scattering off the medium, drawn from its two-lobe phase function.
@@ -291,6 +304,23 @@ public:
     }
 
 private:
+    /// Where a surface point's rays leave it: off the surface, so that they do not find it.
+    static Vec3d surfaceOffset(const SurfaceHit& hit) { return hit.position + hit.geometricNormal * 1e-3 * (1.0 + hit.distance); }
+
+    /// What the passes keep of the surface a camera ray meets, in front of
+    /// its event or behind it: its depth, object and normal, and the share of
+    /// the sun's light the cloud takes from it, as the fast integrator
+    /// estimates it (where no surface shadows it).
+    void seeSurface(const SurfaceHit& hit, const SurfaceShading& surface, CameraSample& seen) const
+    {
+        seen.depth = float(hit.distance);
+        seen.object = hit.object;
+        seen.normal = surface.normal;
+        const Vec3d offset = surfaceOffset(hit);
+        if (surface.normal.dot(mToSun) > 0.0 && mFrame.volume && !mFrame.surfaces->occluded(offset, mToSun, 0.0, kInfinity))
+            seen.shadow = 1.0 - mFrame.volume->surfaceSunTransmittance(offset);
+    }
+
     /// The first event along origin + t dir: a collision in the medium (its
     /// distance), or else the first surface (hit, isSurface), or neither.
     /// Within the cloud most free paths end before any surface, so after the

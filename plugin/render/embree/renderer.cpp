@@ -49,15 +49,28 @@ bool facesSun(const FrameToRender& f, const SurfaceShading& surface)
     return surface.normal.dot(f.settings->sun.direction.unitSafe()) > 0.0;
 }
 
+/// The sun at a surface point: its cosine to the normal (0 where a surface
+/// blocks it or the point faces away), and the share the cloud lets through.
+struct SunOnSurface {
+    double cosine = 0.0;
+    double throughCloud = 1.0;
+};
+
+SunOnSurface sunOnSurface(const FrameToRender& f, const SurfaceHit& hit, const SurfaceShading& surface, bool sunBlocked)
+{
+    SunOnSurface sun;
+    sun.cosine = sunBlocked ? 0.0 : std::max(0.0, surface.normal.dot(f.settings->sun.direction.unitSafe()));
+    if (sun.cosine > 0 && f.volume) sun.throughCloud = f.volume->surfaceSunTransmittance(shadowRayOrigin(hit));
+    return sun;
+}
+
 /// The light a surface point sends back as the fast integrator sees it: the
-/// sun (unless a surface blocks it, softened through the cloud) and the sky.
-Vec3d directlyLitSurface(const FrameToRender& f, const SurfaceHit& hit, const SurfaceShading& surface, bool sunBlocked)
+/// sun (softened through the cloud) and the sky.
+Vec3d directlyLitSurface(const FrameToRender& f, const SurfaceShading& surface, const SunOnSurface& sun)
 {
     const RenderSettings& s = *f.settings;
-    const Vec3d toSun = s.sun.direction.unitSafe(), sunRadiance = s.sun.color * s.sun.intensity;
-    double sun = sunBlocked ? 0.0 : std::max(0.0, surface.normal.dot(toSun));
-    if (sun > 0 && f.volume) sun *= f.volume->surfaceSunTransmittance(shadowRayOrigin(hit));
-    const Vec3d light = sunRadiance * (sun / M_PI) + skyLightOnSurface(s.sky, surface.normal);
+    const Vec3d sunRadiance = s.sun.color * s.sun.intensity;
+    const Vec3d light = sunRadiance * (sun.cosine * sun.throughCloud / M_PI) + skyLightOnSurface(s.sky, surface.normal);
     return surface.albedo * light;
 }
 
@@ -86,7 +99,7 @@ Vec3d groundRadianceBelow(const FrameToRender& f)
             const SurfaceShading surface = surfaceShading(f, hit);
             const bool sunBlocked = facesSun(f, surface) && f.surfaces->occluded(shadowRayOrigin(hit), s.sun.direction.unitSafe(),
                                                                                  0.0, std::numeric_limits<double>::max());
-            sum += directlyLitSurface(f, hit, surface, sunBlocked);
+            sum += directlyLitSurface(f, surface, sunOnSurface(f, hit, surface, sunBlocked));
         }
     return sum / double(kRays * kRays);
 }
@@ -142,24 +155,27 @@ RenderImage renderFast(const FrameToRender& f)
                 const Vec3d& dir = packet.dirs[lane];
                 const SurfaceHit& hit = hits[lane];
                 CameraSample& sample = seen[lane] = CameraSample();
-                // Premultiplied: a drawn sky is an opaque background; a
-                // transparent one adds neither light nor coverage.
-                const bool drawSky = !s.image.transparentSky;
-                sample.radiance =
-                    isSurface[lane]
-                        ? throughHaze(s.sky, directlyLitSurface(f, hit, surfaces[lane], sunBlocked[lane]), hit.distance)
-                    : drawSky ? skyRadiance(s, dir)
-                              : Vec3d(0.0);
-                sample.alpha = isSurface[lane] || drawSky ? 1.0 : 0.0;
+                if (isSurface[lane]) {
+                    const SunOnSurface sun = sunOnSurface(f, hit, surfaces[lane], sunBlocked[lane]);
+                    sample.behind = throughHaze(s.sky, directlyLitSurface(f, surfaces[lane], sun), hit.distance);
+                    sample.behindAlpha = 1.0;
+                    sample.depth = float(hit.distance);
+                    sample.object = hit.object;
+                    sample.normal = surfaces[lane].normal;
+                    sample.shadow = sun.cosine > 0.0 ? 1.0 - sun.throughCloud : 0.0;
+                } else if (!s.image.transparentSky) {
+                    // Premultiplied: a drawn sky is an opaque background; a
+                    // transparent one adds neither light nor coverage.
+                    sample.behind = skyRadiance(s, dir);
+                    sample.behindAlpha = 1.0;
+                }
                 if (f.volume) {
                     const CloudVolume::Segment cloud =
                         f.volume->march(f.camera.position(), dir, 0.0, isSurface[lane] ? hit.distance : 1e30,
                                         packet.randoms[lane].next(), sunRadiance, skyAmbient, tracedLight ? &scattered : nullptr);
-                    sample.radiance = throughHaze(s.sky, cloud.radiance, cloud.distance, 1.0 - cloud.transmittance) +
-                                      sample.radiance * cloud.transmittance;
-                    sample.alpha = 1.0 - (1.0 - sample.alpha) * cloud.transmittance;
+                    sample.cloud = throughHaze(s.sky, cloud.radiance, cloud.distance, 1.0 - cloud.transmittance);
+                    sample.transmittance = cloud.transmittance;
                 }
-                if (isSurface[lane]) sample.depth = float(hit.distance);
             }
         };
     });

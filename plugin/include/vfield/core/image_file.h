@@ -11,8 +11,10 @@
 namespace vfield {
 
 /// Writes the image in the format its extension names (.png, .exr, ...),
-/// converting to the format's pixel type. Throws FileError on failure.
-void writeImage(const OIIO::ImageBuf& image, const std::string& path);
+/// converting to the format's pixel type: 8 bits, or in an EXR exrType
+/// (its depth channel, the spec's z_channel, 32-bit floats whatever that is).
+/// Throws FileError on failure.
+void writeImage(const OIIO::ImageBuf& image, const std::string& path, OIIO::TypeDesc exrType = OIIO::TypeDesc::HALF);
 
 /// A whole image, every channel as floats (integer formats scaled to [0, 1]).
 /// Throws FileError naming the file if it cannot be read.

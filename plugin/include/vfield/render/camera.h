@@ -40,6 +40,9 @@ public:
     double aspect() const { return mAspect; }
     /// Unit direction through the image point (x right, y down, in pixels).
     Vec3d direction(double x, double y) const;
+    /// The image point (pixels, as direction() takes it) where a world point
+    /// appears; none for a point not in front of the camera.
+    std::optional<Vec2d> imagePoint(const Vec3d& world) const;
     /// The part of the image where something inside `box` can appear: the
     /// bounds of its corners' images, within the image; all of it when the
     /// box reaches behind the camera.

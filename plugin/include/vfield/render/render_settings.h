@@ -105,6 +105,15 @@ struct SkySettings {
     }
 };
 
+/// The precision of an EXR frame's colours, alpha and passes (its depth is
+/// always 32-bit), as Blender and Nuke offer it.
+enum class ExrDepth {
+    Half, ///< 16-bit floats: 11 bits of precision, half the size
+    Float ///< 32-bit floats
+};
+inline constexpr EnumName<ExrDepth> kExrDepthNames[] = {{ExrDepth::Half, "half"}, {ExrDepth::Float, "float"}};
+constexpr const auto& enumNames(ExrDepth) { return kExrDepthNames; }
+
 /// The picture: its size and how many samples each pixel averages.
 struct ImageSettings {
     static constexpr int kMaxResolution = 16384; ///< pixels along either side
@@ -121,6 +130,10 @@ struct ImageSettings {
     /// Off (as Blender's default), every frame draws the same random numbers:
     /// what does not move keeps its noise still instead of boiling.
     bool animatedSeed = false;
+    /// EXR frames carry the render passes (RenderPasses) as layers beside the
+    /// beauty; frames written only as PNG are rendered without them.
+    bool passes = true;
+    ExrDepth exrDepth = ExrDepth::Half;
 
     /// The stream every random number of a frame is drawn from (with the pixel and sample).
     uint32_t noiseStream(int frame) const
@@ -153,6 +166,13 @@ struct ImageSettings {
         visit(field("animatedSeed", self.animatedSeed)
                   .doc("draw each frame's noise afresh, as Blender's animated seed does; off, every frame draws the same "
                        "numbers and a shot where nothing moves renders identical frames. Embree back-end only"));
+        visit(field("passes", self.passes)
+                  .doc("EXR frames carry the render passes as layers beside the beauty (R, G, B, A, Z): cloud.RGBA, "
+                       "surfaces.RGBA, shadow.X, normal.XYZ and objectIndex.X, named as Nuke and Blender name "
+                       "multilayer EXR channels (docs/rendering.md). Embree back-end only"));
+        visit(field("exrDepth", self.exrDepth)
+                  .doc("the precision of EXR frames' colours, alpha and passes: half (16-bit floats, as Nuke and Blender "
+                       "write by default) or float (32-bit); depth is always 32-bit"));
     }
 };
 

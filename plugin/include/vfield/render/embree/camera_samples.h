@@ -23,12 +23,75 @@
 
 namespace vfield {
 
-/// What one camera ray sees.
+/// What one camera ray sees, split as the passes split it: the cloud's own
+/// light in front of what lies behind the cloud (the first surface, or the
+/// sky), which shows through the cloud's transmittance.
 struct CameraSample {
-    Vec3d radiance{0.0};
-    double alpha = 0.0;                                   ///< coverage: 1 unless it sees a transparent sky
+    Vec3d cloud{0.0};                                     ///< the light the cloud sends along the ray
+    double transmittance = 1.0;                           ///< of the cloud, up to what lies behind it
+    Vec3d behind{0.0};                                    ///< the first surface's light or a drawn sky's; 0 for a transparent sky
+    double behindAlpha = 0.0;                             ///< its coverage: 1 unless a transparent sky
     float depth = std::numeric_limits<float>::infinity(); ///< to the first surface
+    // The first surface's, for the passes:
+    int object = -1;     ///< its object; -1: none seen
+    Vec3d normal{0.0};   ///< its shading normal
+    double shadow = 0.0; ///< the share of the sun's light on it that the cloud takes
+
+    Vec3d radiance() const { return cloud + behind * transmittance; }
+    double alpha() const { return 1.0 - (1.0 - behindAlpha) * transmittance; }
 };
+
+/// One pixel's sums over its samples for the passes (RenderPasses), in
+/// sample order.
+class PassSums {
+public:
+    void add(const CameraSample& seen)
+    {
+        ++mSamples;
+        mCloud += seen.cloud;
+        mCloudAlpha += 1.0 - seen.transmittance;
+        mBehindSeen += seen.behind * seen.transmittance;
+        mBehindAlphaSeen += seen.behindAlpha * seen.transmittance;
+        mTransmittance += seen.transmittance;
+        mBehind += seen.behind;
+        mBehindAlpha += seen.behindAlpha;
+        mShadow += seen.shadow;
+        mNormal += seen.normal;
+        if (seen.object >= 0 && seen.depth < mNearest) {
+            mNearest = seen.depth;
+            mObject = seen.object;
+        }
+    }
+
+    /// Writes the pixel's values at index `pixel` of each pass.
+    void write(RenderPasses& passes, std::size_t pixel) const
+    {
+        const double n = mSamples;
+        const auto put = [](std::vector<float>& pass, std::size_t at, const Vec3d& v) {
+            for (int c = 0; c < 3; ++c) pass[at + c] = float(v[c]);
+        };
+        put(passes.cloud, 4 * pixel, mCloud / n);
+        passes.cloud[4 * pixel + 3] = float(mCloudAlpha / n);
+        // Weighted by the transmittance, the cloud over the surfaces is the
+        // beauty; where nothing shows through, the samples' plain mean.
+        const bool showsThrough = mTransmittance > 1e-9 * n;
+        put(passes.surfaces, 4 * pixel, showsThrough ? mBehindSeen / mTransmittance : mBehind / n);
+        passes.surfaces[4 * pixel + 3] = float(showsThrough ? mBehindAlphaSeen / mTransmittance : mBehindAlpha / n);
+        passes.shadow[pixel] = float(mShadow / n);
+        put(passes.normal, 3 * pixel, mNormal / n);
+        passes.objectIndex[pixel] = float(mObject + 1);
+    }
+
+private:
+    int mSamples = 0;
+    Vec3d mCloud{0.0}, mBehindSeen{0.0}, mBehind{0.0}, mNormal{0.0};
+    double mCloudAlpha = 0.0, mBehindAlphaSeen = 0.0, mTransmittance = 0.0, mBehindAlpha = 0.0, mShadow = 0.0;
+    float mNearest = std::numeric_limits<float>::infinity();
+    int mObject = -1;
+};
+
+/// Allocates every pass of a width x height image.
+RenderPasses allocatePasses(int width, int height);
 
 /// Pixels done, counted across worker threads, and told as a fraction of the
 /// frame at most once a second, one call at a time.
@@ -94,6 +157,8 @@ RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler&
     image.height = height;
     image.rgba.assign(std::size_t(width) * height * 4, 0.0f);
     image.depth.assign(std::size_t(width) * height, std::numeric_limits<float>::infinity());
+    const bool passes = f.passes;
+    if (passes) image.passes = allocatePasses(width, height);
 
     // Each pixel's sums over the samples it has taken, in double, in sample order.
     struct PixelSums {
@@ -102,6 +167,7 @@ RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler&
         int samples = 0;
     };
     std::vector<PixelSums> sums(std::size_t(width) * height);
+    std::vector<PassSums> passSums(passes ? sums.size() : 0);
     const auto finish = [&] {
         tbb::parallel_for(0, height, [&](int y) {
             for (std::size_t pixel = std::size_t(y) * width; pixel < std::size_t(y + 1) * width; ++pixel) {
@@ -112,6 +178,7 @@ RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler&
                 out[1] = float(sum.colour[1] / n);
                 out[2] = float(sum.colour[2] / n);
                 out[3] = float(sum.alpha / n);
+                if (passes) passSums[pixel].write(image.passes, pixel);
             }
         });
     };
@@ -147,9 +214,10 @@ RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler&
                     sampler(packet, seen.data());
                     for (int lane = 0; lane < packet.count; ++lane) {
                         PixelSums& sum = sums[lanePixels[lane]];
-                        sum.colour += seen[lane].radiance;
-                        sum.alpha += seen[lane].alpha;
+                        sum.colour += seen[lane].radiance();
+                        sum.alpha += seen[lane].alpha();
                         ++sum.samples;
+                        if (passes) passSums[lanePixels[lane]].add(seen[lane]);
                         float& depth = image.depth[lanePixels[lane]];
                         depth = std::min(depth, seen[lane].depth);
                     }

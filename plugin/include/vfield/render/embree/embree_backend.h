@@ -21,10 +21,11 @@ public:
     /// settings and surfaces must outlive the back-end; the caller places
     /// the dynamic objects in surfaces (and commits) before each frame.
     /// formats: "png" and/or "exr". terrainLow/High: heights the terrain's
-    /// colours span. Throws ValueError for an unknown format, OptionError for
-    /// a view the display has not.
+    /// colours span. objectNames: the scene's objects', by index, which EXR
+    /// frames' object index pass names. Throws ValueError for an unknown
+    /// format, OptionError for a view the display has not.
     EmbreeBackend(const RenderSettings& settings, const SurfaceScene& surfaces, std::map<int, SurfaceMaterial> materials,
-                  double terrainLow, double terrainHigh, std::vector<std::string> formats);
+                  double terrainLow, double terrainHigh, std::vector<std::string> formats, std::vector<std::string> objectNames);
 
     std::string name() const override { return "embree"; }
     std::vector<std::string> cannotDraw(const RenderSettings&) const override { return {}; }
@@ -38,6 +39,7 @@ private:
     std::map<int, SurfaceMaterial> mMaterials;
     double mTerrainLow, mTerrainHigh;
     std::vector<std::string> mFormats;
+    std::vector<std::string> mObjectNames;
     DisplayView mView;
 };
 

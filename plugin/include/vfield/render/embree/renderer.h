@@ -31,6 +31,7 @@ struct FrameToRender {
     Camera camera{Vec3d(0, 0, 1), Vec3d(0.0), Vec3d(0, 1, 0), 45, 1, 1}; ///< set per frame
     int frame = 0;                                                       ///< keys the random numbers
     double terrainLow = 0.0, terrainHigh = 1.0;                          ///< heights for the terrain's colours
+    bool passes = false;                                                 ///< render RenderImage::passes too
     std::function<void(double fraction)> progress;                       ///< FrameView::progress
 };
 
