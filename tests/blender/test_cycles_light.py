@@ -47,7 +47,7 @@ LONE_CLOUD = [
     "--set", "/render/resolution=[160,90]",
 ]
 VFIELD_SAMPLES = 512
-CYCLES_SAMPLES = 128  # a render, SEEDS renders a case
+CYCLES_SAMPLES = 64  # a render, SEEDS renders a case
 SEEDS = 4
 TOLERANCE = 0.01
 
