@@ -317,7 +317,9 @@ private:
         seen.object = hit.object;
         seen.normal = surface.normal;
         const Vec3d offset = surfaceOffset(hit);
-        if (surface.normal.dot(mToSun) > 0.0 && mFrame.volume && !mFrame.surfaces->occluded(offset, mToSun, 0.0, kInfinity))
+        // Its own shadow ray: only when the passes are asked for.
+        if (mFrame.passes && surface.normal.dot(mToSun) > 0.0 && mFrame.volume &&
+            !mFrame.surfaces->occluded(offset, mToSun, 0.0, kInfinity))
             seen.shadow = 1.0 - mFrame.volume->surfaceSunTransmittance(offset);
     }
 
