@@ -258,7 +258,7 @@ public:
                 origin = p;
             } else if (isSurface) {
                 const SurfaceShading surface = cameraRay ? cameraSurface : surfaceShading(mFrame, hit);
-                const Vec3d offset = surfaceOffset(hit);
+                const Vec3d offset = shadowRayOrigin(hit);
                 const double cosSun = surface.normal.dot(mToSun);
                 if (cosSun > 0.0)
                     radiance += weight * surface.albedo * mSunRadiance * (cosSun / M_PI * sunReaching(offset, random));
@@ -304,9 +304,6 @@ public:
     }
 
 private:
-    /// Where a surface point's rays leave it: off the surface, so that they do not find it.
-    static Vec3d surfaceOffset(const SurfaceHit& hit) { return hit.position + hit.geometricNormal * 1e-3 * (1.0 + hit.distance); }
-
     /// What the passes keep of the surface a camera ray meets, in front of
     /// its event or behind it: its depth, object and normal, and the share of
     /// the sun's light the cloud takes from it, as the fast integrator
@@ -316,7 +313,7 @@ private:
         seen.depth = float(hit.distance);
         seen.object = hit.object;
         seen.normal = surface.normal;
-        const Vec3d offset = surfaceOffset(hit);
+        const Vec3d offset = shadowRayOrigin(hit);
         // Its own shadow ray: only when the passes are asked for.
         if (mFrame.passes && surface.normal.dot(mToSun) > 0.0 && mFrame.volume &&
             !mFrame.surfaces->occluded(offset, mToSun, 0.0, kInfinity))

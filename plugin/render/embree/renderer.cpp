@@ -32,16 +32,14 @@ double pixelFootprint(const FrameToRender& frame, const SurfaceHit& hit, const V
     return hit.distance * pixelAngle / std::max(0.25, std::abs(hit.normal.dot(dir)));
 }
 
+Vec3d shadowRayOrigin(const SurfaceHit& hit) { return hit.position + hit.geometricNormal * 1e-3 * (1.0 + hit.distance); }
+
 SurfaceShading surfaceShading(const FrameToRender& frame, const SurfaceHit& hit)
 {
     return surfaceShading(frame, hit, surfaceNoise(surfaceMaterial(frame, hit.object), hit.position));
 }
 
 namespace {
-
-/// Where a surface point's shadow ray starts: off the surface, so that it
-/// does not find the surface itself.
-Vec3d shadowRayOrigin(const SurfaceHit& hit) { return hit.position + hit.geometricNormal * 1e-3 * (1.0 + hit.distance); }
 
 /// Does the surface face the sun? Only then is its shadow ray traced.
 bool facesSun(const FrameToRender& f, const SurfaceShading& surface)

@@ -50,6 +50,9 @@ SurfaceMaterial surfaceMaterial(const FrameToRender& frame, int object);
 /// camera hits, world units: how fine the surface's noise is drawn there.
 double pixelFootprint(const FrameToRender& frame, const SurfaceHit& hit, const Vec3d& dir);
 SurfaceShading surfaceShading(const FrameToRender& frame, const SurfaceHit& hit);
+/// Where rays leaving a surface point start (towards the sun, or bouncing):
+/// off the surface, so that they do not find the surface itself.
+Vec3d shadowRayOrigin(const SurfaceHit& hit);
 SurfaceShading surfaceShading(const FrameToRender& frame, const SurfaceHit& hit, const SurfaceNoise& noise);
 
 } // namespace vfield
