@@ -1,5 +1,7 @@
 #include <vfield/folder/stats_file.h>
 
+#include "../core/json_vec3.h"
+
 #include <vfield/core/error.h>
 #include <vfield/core/hash.h>
 
@@ -8,9 +10,6 @@
 namespace vfield {
 
 namespace {
-
-nlohmann::json vec(const Vec3d& v) { return {v[0], v[1], v[2]}; }
-Vec3d vecFromJson(const nlohmann::json& j) { return Vec3d(j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()); }
 
 nlohmann::json toJson(const ClearanceStats& c)
 {
@@ -44,9 +43,9 @@ nlohmann::json toJson(const FrameRecord& r)
     for (const PairClearance& pair : r.objectPairs)
         pairs.push_back({{"objects", {pair.first, pair.second}}, {"min", pair.minimum}, {"exact", pair.exact}});
     return {{"frame", r.frame},
-            {"centroid", any ? vec(r.centroid) : nlohmann::json(nullptr)},
-            {"boundsMin", any ? vec(r.bounds.min()) : nlohmann::json(nullptr)},
-            {"boundsMax", any ? vec(r.bounds.max()) : nlohmann::json(nullptr)},
+            {"centroid", any ? vec3ToJson(r.centroid) : nlohmann::json(nullptr)},
+            {"boundsMin", any ? vec3ToJson(r.bounds.min()) : nlohmann::json(nullptr)},
+            {"boundsMax", any ? vec3ToJson(r.bounds.max()) : nlohmann::json(nullptr)},
             {"alive", r.alive},
             {"removed", r.removed},
             {"substeps", r.substeps},
@@ -84,8 +83,8 @@ FrameRecord recordFromJson(const nlohmann::json& j)
         r.stages = {stages->value("advection", 0.0), stages->value("clearance", 0.0), stages->value("splat", 0.0),
                     stages->value("detail", 0.0), stages->value("write", 0.0)};
     if (!j.at("centroid").is_null()) {
-        r.centroid = vecFromJson(j.at("centroid"));
-        r.bounds = BBoxd(vecFromJson(j.at("boundsMin")), vecFromJson(j.at("boundsMax")));
+        r.centroid = vec3FromJson(j.at("centroid"));
+        r.bounds = BBoxd(vec3FromJson(j.at("boundsMin")), vec3FromJson(j.at("boundsMax")));
     }
     r.particleClearance = clearanceFromJson(j.at("clearance").at("particles"));
     if (const auto files = j.find("files"); files != j.end() && !files->is_null())

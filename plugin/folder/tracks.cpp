@@ -1,5 +1,7 @@
 #include <vfield/folder/tracks.h>
 
+#include "../core/json_vec3.h"
+
 #include <vfield/core/error.h>
 
 #include <nlohmann/json.hpp>
@@ -10,9 +12,6 @@
 namespace vfield {
 
 namespace {
-
-nlohmann::json vec(const Vec3d& v) { return {v[0], v[1], v[2]}; }
-Vec3d vecFromJson(const nlohmann::json& j) { return Vec3d(j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()); }
 
 nlohmann::json objectsToJson(const std::map<std::string, std::vector<TrackEntry>>& objects)
 {
@@ -28,11 +27,11 @@ nlohmann::json objectsToJson(const std::map<std::string, std::vector<TrackEntry>
             for (int row = 0; row < 4; ++row)
                 for (int col = 0; col < 4; ++col) matrix.push_back(m(col, row));
             track.push_back({{"frame", e.frame},
-                             {"position", vec(e.pose.translation)},
+                             {"position", vec3ToJson(e.pose.translation)},
                              {"orientation", {q.x(), q.y(), q.z(), q.w()}},
                              {"scale", e.pose.scale},
                              {"matrix", matrix},
-                             {"velocity", vec(e.velocity)}});
+                             {"velocity", vec3ToJson(e.velocity)}});
         }
     }
     return json;
@@ -46,10 +45,10 @@ std::map<std::string, std::vector<TrackEntry>> objectsFromJson(const nlohmann::j
             TrackEntry entry;
             entry.frame = e.at("frame").get<int>();
             const auto q = e.at("orientation").get<std::vector<double>>();
-            entry.pose.translation = vecFromJson(e.at("position"));
+            entry.pose.translation = vec3FromJson(e.at("position"));
             entry.pose.rotation = Quatd(q.at(0), q.at(1), q.at(2), q.at(3));
             entry.pose.scale = e.at("scale").get<double>();
-            entry.velocity = vecFromJson(e.at("velocity"));
+            entry.velocity = vec3FromJson(e.at("velocity"));
             objects[name].push_back(entry);
         }
     return objects;

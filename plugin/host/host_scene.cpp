@@ -1,5 +1,7 @@
 #include <vfield/host/host_scene.h>
 
+#include "../core/json_vec3.h"
+
 #include <vfield/core/atomic_file.h>
 #include <vfield/core/error.h>
 #include <vfield/core/field_visitors.h>
@@ -21,8 +23,6 @@ namespace vfield {
 
 namespace {
 
-nlohmann::json vec(const Vec3d& v) { return {v[0], v[1], v[2]}; }
-
 /// "12-red_wing.obj": the index keeps names apart that differ only in
 /// characters a file name should not hold.
 std::string meshFileName(std::size_t index, const std::string& name)
@@ -35,9 +35,9 @@ std::string meshFileName(std::size_t index, const std::string& name)
 nlohmann::json cameraPose(int frame, const Camera& camera)
 {
     return {{"frame", frame},
-            {"position", vec(camera.position())},
-            {"lookAt", vec(camera.position() + camera.forward())},
-            {"up", vec(camera.up())}};
+            {"position", vec3ToJson(camera.position())},
+            {"lookAt", vec3ToJson(camera.position() + camera.forward())},
+            {"up", vec3ToJson(camera.up())}};
 }
 
 /// One pose for a fixed camera; one per frame for a camera that follows an
@@ -108,7 +108,7 @@ void writeHostScene(const Scene& scene, const SimFolder& simulation)
                            {"space", object.isDynamic ? "object" : "world"},
                            {"material",
                             {{"kind", material.kind == SurfaceMaterial::Kind::Terrain ? "terrain" : "painted"},
-                             {"color", vec(material.paint)}}}});
+                             {"color", vec3ToJson(material.paint)}}}});
     }
 
     const RenderSettings& r = scene.render;
@@ -122,7 +122,7 @@ void writeHostScene(const Scene& scene, const SimFolder& simulation)
                              {"velocityUnit", "world units per second"}};
     volume.update(fieldsToJson(r.medium));
     nlohmann::json sun = fieldsToJson(r.sun);
-    sun["direction"] = vec(r.sun.direction.unitSafe());
+    sun["direction"] = vec3ToJson(r.sun.direction.unitSafe());
     const nlohmann::json host = {{"format", "vfield host scene"},
                                  {"version", 1},
                                  {"convention", "y up, right-handed, world units; paths relative to this file"},

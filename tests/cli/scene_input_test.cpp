@@ -29,9 +29,8 @@
 namespace {
 
 using Run = vfield::test::CliRun;
+using vfield::test::lineCount;
 using vfield::test::runVfieldCli;
-
-int lineCount(const std::string& text) { return int(std::count(text.begin(), text.end(), '\n')); }
 
 } // namespace
 

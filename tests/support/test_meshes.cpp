@@ -1,5 +1,6 @@
 #include "test_meshes.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -50,6 +51,8 @@ std::string readTextFile(const std::string& path)
     text << in.rdbuf();
     return text.str();
 }
+
+int lineCount(const std::string& text) { return int(std::count(text.begin(), text.end(), '\n')); }
 
 CliRun runVfieldCli(const std::string& arguments, const std::string& dir)
 {

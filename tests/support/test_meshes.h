@@ -24,6 +24,9 @@ std::string scratchDir(const std::string& name);
 /// A file's whole contents (empty if it cannot be read).
 std::string readTextFile(const std::string& path);
 
+/// How many lines a command printed (its newlines).
+int lineCount(const std::string& text);
+
 /// What a run of the vfield command gave.
 struct CliRun {
     int exitCode;
