@@ -11,7 +11,8 @@ namespace vfield::test {
 /// at rest within 1e-9 of the origin.
 Scene singleParticleScene(const std::string& fieldsJson, int frames, double drag, double fps = 24.0);
 
-/// A showcase scene file with its particle count and frame range reduced.
+/// A showcase scene file with its particle count and frame range reduced and
+/// its displaced detail's voxel doubled.
 Scene showcaseAtTestResolution(const std::string& name, int particles, int lastFrame);
 
 } // namespace vfield::test
