@@ -40,4 +40,31 @@ bool Transform::isIdentity() const { return translation == Vec3d(0.0) && scale =
 
 void Transform::validate() const { checkFields(*this); }
 
+Quatd slerp(const Quatd& a, Quatd b, double t)
+{
+    double dot = a.x() * b.x() + a.y() * b.y() + a.z() * b.z() + a.w() * b.w();
+    if (dot < 0) {
+        b = Quatd(-b.x(), -b.y(), -b.z(), -b.w());
+        dot = -dot;
+    }
+    if (dot > 0.9995) { // nearly equal: normalized lerp
+        const Quatd q(a.x() + t * (b.x() - a.x()), a.y() + t * (b.y() - a.y()), a.z() + t * (b.z() - a.z()),
+                      a.w() + t * (b.w() - a.w()));
+        return q.unit();
+    }
+    const double theta = std::acos(dot), s = std::sin(theta);
+    const double wa = std::sin((1 - t) * theta) / s, wb = std::sin(t * theta) / s;
+    return Quatd(wa * a.x() + wb * b.x(), wa * a.y() + wb * b.y(), wa * a.z() + wb * b.z(), wa * a.w() + wb * b.w());
+}
+
+Transform interpolate(const Transform& a, const Transform& b, double t)
+{
+    if (t == 1.0) return b;
+    Transform pose;
+    pose.translation = a.translation + (b.translation - a.translation) * t;
+    pose.rotation = slerp(a.rotation, b.rotation, t);
+    pose.scale = a.scale + (b.scale - a.scale) * t;
+    return pose;
+}
+
 } // namespace vfield

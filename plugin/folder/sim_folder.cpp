@@ -75,30 +75,35 @@ openvdb::MetaMap frameMetadata(int frame, uint64_t inputsHash)
 
 } // namespace
 
-openvdb::FloatGrid::Ptr SimFolder::readDensity(int frame, std::optional<uint64_t> inputsHash) const
+DensityGrids SimFolder::readDensityGrids(int frame, std::optional<uint64_t> inputsHash) const
 {
     const std::string path = densityFile(frame);
     if (!fs::exists(path)) throw FileError(path, "missing (simulate these frames first)");
     openvdb::MetaMap metadata;
-    openvdb::FloatGrid::Ptr density;
+    DensityGrids grids;
     for (const openvdb::GridBase::Ptr& grid : readVdb(path, &metadata)) {
-        if (grid->getName() != "density") continue;
-        density = openvdb::gridPtrCast<openvdb::FloatGrid>(grid);
-        if (!density) throw FileError(path, "grid 'density' is a " + grid->valueType() + " grid, not float");
-        for (auto it = density->cbeginValueOn(); it; ++it)
+        if (grid->getName() == "vel") grids.velocity = openvdb::gridPtrCast<openvdb::Vec3SGrid>(grid);
+        if (grid->getName() != "density" || grids.density) continue;
+        grids.density = openvdb::gridPtrCast<openvdb::FloatGrid>(grid);
+        if (!grids.density) throw FileError(path, "grid 'density' is a " + grid->valueType() + " grid, not float");
+        for (auto it = grids.density->cbeginValueOn(); it; ++it)
             if (!std::isfinite(*it)) {
                 const openvdb::Coord c = it.getCoord();
                 throw FileError(path, "grid 'density' holds a non-finite value at voxel (" + std::to_string(c.x()) + ", " +
                                           std::to_string(c.y()) + ", " + std::to_string(c.z()) + ")");
             }
-        break;
     }
-    if (!density) throw FileError(path, "no grid named 'density'");
+    if (!grids.density) throw FileError(path, "no grid named 'density'");
     if (inputsHash) {
         const std::string problem = provenanceProblem(path, metadata, *inputsHash, frame);
         if (!problem.empty()) throw FileError(path, problem.substr(path.size() + 1) + ": simulate the frame again");
     }
-    return density;
+    return grids;
+}
+
+openvdb::FloatGrid::Ptr SimFolder::readDensity(int frame, std::optional<uint64_t> inputsHash) const
+{
+    return readDensityGrids(frame, inputsHash).density;
 }
 
 Tracks SimFolder::readTracks() const

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <iterator>
 
 namespace vfield {
@@ -75,13 +76,39 @@ void Tracks::keepUpTo(int frame)
                       entries.end());
 }
 
-const TrackEntry& Tracks::at(const std::string& object, int frame) const
+const TrackEntry* Tracks::find(const std::string& object, int frame) const
 {
     const auto o = mObjects.find(object);
     if (o != mObjects.end())
         for (const TrackEntry& e : o->second)
-            if (e.frame == frame) return e;
+            if (e.frame == frame) return &e;
+    return nullptr;
+}
+
+const TrackEntry& Tracks::at(const std::string& object, int frame) const
+{
+    if (const TrackEntry* entry = find(object, frame)) return *entry;
     throw FileError(mPath, "no pose of \"" + object + "\" at frame " + std::to_string(frame));
+}
+
+Transform Tracks::poseAt(const std::string& object, double frame) const
+{
+    const int before = int(std::floor(frame));
+    if (frame == before) return pose(object, before);
+    const TrackEntry *a = find(object, before), *b = find(object, before + 1);
+    if (a && b) return interpolate(a->pose, b->pose, frame - before);
+    if (a || b) return (a ? a : b)->pose;
+    return pose(object, before); // throws, naming the frame
+}
+
+std::vector<Transform> Tracks::pathTo(const std::string& object, double frame) const
+{
+    const int before = int(std::floor(frame));
+    if (frame == before) return path(object, before);
+    if (!find(object, before)) return path(object, before + 1); // before the track's start: held there
+    std::vector<Transform> poses = path(object, before);
+    if (find(object, before + 1)) poses.push_back(poseAt(object, frame));
+    return poses;
 }
 
 std::vector<Transform> Tracks::path(const std::string& object, int frame) const

@@ -28,6 +28,19 @@ Camera Camera::looking(const CameraSettings& s, const Vec3d& position, const Vec
     return Camera(position, target, s.up, s.fovDegrees, width, height);
 }
 
+Camera Camera::between(const Camera& a, const Camera& b, double t)
+{
+    if (t == 0.0) return a;
+    if (t == 1.0) return b;
+    Camera c = a;
+    c.mPosition = a.mPosition + (b.mPosition - a.mPosition) * t;
+    c.mForward = (a.mForward + (b.mForward - a.mForward) * t).unitSafe();
+    c.mRight = c.mForward.cross(a.mUp + (b.mUp - a.mUp) * t).unitSafe();
+    c.mUp = c.mRight.cross(c.mForward);
+    c.mTanHalf = a.mTanHalf + (b.mTanHalf - a.mTanHalf) * t;
+    return c;
+}
+
 Vec3d Camera::direction(double x, double y) const
 {
     const double u = (2.0 * x / mWidth - 1.0) * mTanHalf * mAspect;

@@ -198,15 +198,16 @@ DenseGrid CloudLighting::transmittanceTowards(const DenseGrid& coarse, const Vec
     return transmittance;
 }
 
-bool CloudLighting::clip(const Vec3d& origin, const Vec3d& dir, double& tMin, double& tMax) const
+bool CloudLighting::clip(const Vec3d& origin, const Vec3d& dir, double& tMin, double& tMax, double grow) const
 {
     if (mEmpty) return false;
+    const Vec3d lo = mBounds.min() - Vec3d(grow), hi = mBounds.max() + Vec3d(grow);
     for (int axis = 0; axis < 3; ++axis) {
         if (dir[axis] == 0.0) {
-            if (origin[axis] < mBounds.min()[axis] || origin[axis] > mBounds.max()[axis]) return false;
+            if (origin[axis] < lo[axis] || origin[axis] > hi[axis]) return false;
             continue;
         }
-        double t0 = (mBounds.min()[axis] - origin[axis]) / dir[axis], t1 = (mBounds.max()[axis] - origin[axis]) / dir[axis];
+        double t0 = (lo[axis] - origin[axis]) / dir[axis], t1 = (hi[axis] - origin[axis]) / dir[axis];
         if (t0 > t1) std::swap(t0, t1);
         tMin = std::max(tMin, t0);
         tMax = std::min(tMax, t1);

@@ -14,7 +14,12 @@ void CameraSettings::validate() const
 
 void SunSettings::validate() const { checkFields(*this); }
 void SkySettings::validate() const { checkFields(*this); }
-void ImageSettings::validate() const { checkFields(*this); }
+void ImageSettings::validate() const
+{
+    checkFields(*this);
+    require(shutterOpen <= shutterClose, "shutter",
+            "the shutter closes (" + numberText(shutterClose) + ") before it opens (" + numberText(shutterOpen) + ")");
+}
 void ViewSettings::validate() const { checkFields(*this); }
 void MediumSettings::validate() const { checkFields(*this); }
 void MultipleScatteringSettings::validate() const { checkFields(*this); }

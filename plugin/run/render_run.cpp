@@ -12,7 +12,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -107,8 +109,10 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
         SurfaceHit hit;
         return surfaces.intersect(origin, dir, tMin, tMax, hit) ? std::optional<double>(hit.distance) : std::nullopt;
     };
+    // Surfaces shadow the cloud's light grid from the middle of the shutter
+    // (the frame's instant for a shutter centred on it).
     const CloudLighting::Occlusion sunBlocked = [&surfaces](const Vec3d& origin, const Vec3d& dir) {
-        return surfaces.occluded(origin, dir, 1e-3, std::numeric_limits<double>::max());
+        return surfaces.occluded(origin, dir, 1e-3, std::numeric_limits<double>::max(), 0.5f);
     };
 
     // Each finished frame's stamp, beside the frames; unreadable: none finished.
@@ -151,28 +155,46 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
             if (options.frameProgress) options.frameProgress(f, summary.rendered + summary.skipped, total, fraction);
         };
         // A frame the simulation did not make is refused before anything is said or prepared.
-        const openvdb::FloatGrid::Ptr density = simulation.readDensity(f, inputsHash);
+        const DensityGrids grids = simulation.readDensityGrids(f, inputsHash);
         frameProgress(0.0);
         if (!prepared) backend->prepare();
         prepared = true;
 
+        // What moves, at the frame's instant and over the shutter.
         FrameView view;
         view.frame = f;
-        std::vector<Transform> followedPath;
+        view.secondsPerFrame = 1.0 / setup.fps;
+        const ImageSettings& shutter = settings.image;
+        const double open = f + shutter.shutterOpen, close = f + shutter.shutterClose;
+        const auto cameraAt = [&](const std::vector<Transform>& followedPath) {
+            return !followedPath.empty() ? followCamera(settings.camera, followedPath, firstSurface, width, height)
+                                         : Camera::fromSettings(settings.camera, width, height);
+        };
+        std::vector<Transform> framePath, openPath, closePath;
         for (std::size_t i = 0; i < setup.objects.size(); ++i) {
             const ObjectSettings& object = setup.objects[i];
             if (!object.isDynamic) continue;
-            const Transform pose = tracks.pose(object.name, f);
-            surfaces.setPose(int(i), pose);
-            view.poses[int(i)] = pose;
-            if (settings.camera.follow && settings.camera.follow->object == object.name)
-                followedPath = tracks.path(object.name, f);
+            view.poses[int(i)] = tracks.pose(object.name, f);
+            const Transform opening = tracks.poseAt(object.name, open);
+            if (shutter.motionBlur()) surfaces.setMotion(int(i), opening, tracks.poseAt(object.name, close));
+            else surfaces.setPose(int(i), opening);
+            if (settings.camera.follow && settings.camera.follow->object == object.name) {
+                framePath = tracks.path(object.name, f);
+                openPath = tracks.pathTo(object.name, open);
+                if (shutter.motionBlur()) closePath = tracks.pathTo(object.name, close);
+            }
         }
         surfaces.commit();
-        view.camera = !followedPath.empty() ? followCamera(settings.camera, followedPath, firstSurface, width, height)
-                                            : Camera::fromSettings(settings.camera, width, height);
-        const CloudLighting lighting(density, settings.medium, settings.sun.direction, sunBlocked);
+        view.camera = cameraAt(framePath);
+        if (shutter.seesMotion()) view.openingCamera = cameraAt(openPath);
+        if (!closePath.empty()) view.closingCamera = cameraAt(closePath);
+        const CloudLighting lighting(grids.density, settings.medium, settings.sun.direction, sunBlocked);
         view.cloud = &lighting;
+        std::optional<CloudMotion> motion;
+        if (shutter.seesMotion() && grids.velocity)
+            motion.emplace(*grids.velocity,
+                           std::max(std::abs(shutter.shutterOpen), std::abs(shutter.shutterClose)) * view.secondsPerFrame);
+        view.motion = motion ? &*motion : nullptr;
         view.progress = frameProgress;
         backend->render(view, outputDir);
         stamps[std::to_string(f)] = stamp;

@@ -14,23 +14,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-Quatd slerp(const Quatd& a, Quatd b, double t)
-{
-    double dot = a.x() * b.x() + a.y() * b.y() + a.z() * b.z() + a.w() * b.w();
-    if (dot < 0) {
-        b = Quatd(-b.x(), -b.y(), -b.z(), -b.w());
-        dot = -dot;
-    }
-    if (dot > 0.9995) { // nearly equal: normalized lerp
-        const Quatd q(a.x() + t * (b.x() - a.x()), a.y() + t * (b.y() - a.y()), a.z() + t * (b.z() - a.z()),
-                      a.w() + t * (b.w() - a.w()));
-        return q.unit();
-    }
-    const double theta = std::acos(dot), s = std::sin(theta);
-    const double wa = std::sin((1 - t) * theta) / s, wb = std::sin(t * theta) / s;
-    return Quatd(wa * a.x() + wb * b.x(), wa * a.y() + wb * b.y(), wa * a.z() + wb * b.z(), wa * a.w() + wb * b.w());
-}
-
 } // namespace
 
 void turnToVelocity(DynamicState& state, const Vec3d& acceleration, const ObjectSettings& spec, double dt)
@@ -63,12 +46,7 @@ Transform Simulator::poseAt(std::size_t object, double time) const
     if (!mObjects[object].spec->isDynamic) return mStates[object].pose;
     const double t0 = mSetup.frameTime(mFrame - 1), t1 = mSetup.frameTime(mFrame);
     const double s = t1 > t0 ? std::clamp((time - t0) / (t1 - t0), 0.0, 1.0) : 1.0;
-    const Transform& a = mStatesAtFrameStart[object].pose;
-    const Transform& b = mStates[object].pose;
-    Transform pose = b;
-    pose.translation = a.translation + (b.translation - a.translation) * s;
-    pose.rotation = slerp(a.rotation, b.rotation, s);
-    return pose;
+    return interpolate(mStatesAtFrameStart[object].pose, mStates[object].pose, s);
 }
 
 void Simulator::advanceDynamicObjects(double t0, double t1, const std::function<void()>& afterSubstep)

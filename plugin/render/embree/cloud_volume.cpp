@@ -34,7 +34,8 @@ struct CloudVolume::EmptySpaceSkipper {
     explicit EmptySpaceSkipper(openvdb::MaskGrid::Ptr occupancy)
         : occupied(std::move(occupancy)), master(*occupied), perThread(master)
     {}
-    static openvdb::MaskGrid::Ptr occupancy(const openvdb::FloatGrid& density)
+    /// Dilated by `reach` more (world units): where reads displaced by a CloudMotion can be non-zero.
+    static openvdb::MaskGrid::Ptr occupancy(const openvdb::FloatGrid& density, double reach)
     {
         openvdb::MaskGrid::Ptr mask = openvdb::MaskGrid::create();
         mask->setTransform(density.transform().copy());
@@ -43,7 +44,9 @@ struct CloudVolume::EmptySpaceSkipper {
         for (auto leaf = density.tree().cbeginLeaf(); leaf; ++leaf)
             for (auto voxel = leaf->cbeginValueOn(); voxel; ++voxel)
                 if (*voxel <= 0.0f) accessor.setValueOff(voxel.getCoord());
-        openvdb::tools::dilateActiveValues(mask->tree(), 1, openvdb::tools::NN_FACE_EDGE_VERTEX, openvdb::tools::EXPAND_TILES);
+        const int voxels = 1 + int(std::ceil(reach / density.voxelSize()[0]));
+        openvdb::tools::dilateActiveValues(mask->tree(), voxels, openvdb::tools::NN_FACE_EDGE_VERTEX,
+                                           openvdb::tools::EXPAND_TILES);
         mask->tree().prune();
         return mask;
     }
@@ -52,8 +55,10 @@ struct CloudVolume::EmptySpaceSkipper {
     tbb::enumerable_thread_specific<Intersector> perThread; ///< copies share the master's tree
 };
 
-CloudVolume::CloudVolume(const CloudLighting& lighting, const MediumSettings& medium, const IntegratorSettings& integrator)
-    : mLighting(lighting), mExtinction(medium.extinction), mAlbedo(medium.albedo), mStep(integrator.volumeStep)
+CloudVolume::CloudVolume(const CloudLighting& lighting, const MediumSettings& medium, const IntegratorSettings& integrator,
+                         double motionReach)
+    : mLighting(lighting), mExtinction(medium.extinction), mAlbedo(medium.albedo), mStep(integrator.volumeStep),
+      mMotionReach(motionReach)
 {
     const MultipleScatteringSettings& ms = integrator.multipleScattering;
     for (int i = 0; i < ms.octaves; ++i) {
@@ -66,7 +71,7 @@ CloudVolume::CloudVolume(const CloudLighting& lighting, const MediumSettings& me
     if (!lighting.empty() && integrator.skipEmptySpace) {
         // A density with no voxel above zero (OpenVDB's intersector refuses
         // an empty grid) is marched across its box, reading zeros.
-        openvdb::MaskGrid::Ptr occupied = EmptySpaceSkipper::occupancy(lighting.density());
+        openvdb::MaskGrid::Ptr occupied = EmptySpaceSkipper::occupancy(lighting.density(), motionReach);
         if (!occupied->empty()) mSkipper = std::make_shared<EmptySpaceSkipper>(std::move(occupied));
     }
     if (lighting.empty()) return;
@@ -157,11 +162,11 @@ CloudVolume::OctaveLight CloudVolume::octaveLight(LightReaders& readers, const V
 }
 
 CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, double tMin, double tMax, double jitter,
-                                        const Vec3d& sunRadiance, const Vec3d& skyRadiance,
-                                        const ScatteredLightGrid* scattered) const
+                                        const Vec3d& sunRadiance, const Vec3d& skyRadiance, const ScatteredLightGrid* scattered,
+                                        CloudMotion::Instant* motion) const
 {
     Segment segment;
-    if (!mLighting.clip(origin, dir, tMin, tMax)) return segment;
+    if (!mLighting.clip(origin, dir, tMin, tMax, mMotionReach)) return segment;
     const openvdb::FloatGrid& densityGrid = mLighting.density();
     Density density(densityGrid.tree());
     LightReaders light(*this);
@@ -190,7 +195,8 @@ CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, d
             if (t >= to) break;
             nextStep = k + 1.0;
             const double dt = std::min(mStep, tMax - t);
-            const Vec3d p = origin + dir * (t + jitter * dt);
+            const Vec3d onRay = origin + dir * (t + jitter * dt);
+            const Vec3d p = motion ? motion->source(onRay) : onRay;
             const Vec3d index = densityTransform.worldToIndex(p);
             if (occupied && !occupied->isValueOn(openvdb::Coord::floor(index))) continue;
             const double rho = density.atIndex(index);

@@ -34,13 +34,16 @@ std::vector<std::string> EmbreeBackend::frameFiles(const std::string& out, int f
 void EmbreeBackend::render(const FrameView& view, const std::string& out)
 {
     const auto start = std::chrono::steady_clock::now();
-    const CloudVolume volume(*view.cloud, mSettings.medium, mSettings.integrator);
+    const CloudVolume volume(*view.cloud, mSettings.medium, mSettings.integrator, view.motion ? view.motion->reach() : 0.0);
     FrameToRender frame;
     frame.settings = &mSettings;
     frame.surfaces = &mSurfaces;
     frame.materials = mMaterials;
     frame.volume = volume.empty() ? nullptr : &volume;
-    frame.camera = view.camera;
+    frame.camera = view.openingCamera.value_or(view.camera);
+    frame.closingCamera = view.closingCamera;
+    frame.motion = view.motion;
+    frame.secondsPerFrame = view.secondsPerFrame;
     frame.frame = view.frame;
     frame.terrainLow = mTerrainLow;
     frame.terrainHigh = mTerrainHigh;

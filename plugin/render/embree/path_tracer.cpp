@@ -14,11 +14,12 @@ RenderImage renderReference(const FrameToRender& f)
     settings.image.adaptiveThreshold = 0.0;
     FrameToRender frame = f;
     frame.settings = &settings;
-    const Medium medium(frame.volume, settings.medium);
+    const Medium medium(frame.volume, settings.medium, frame.motion);
     return renderCameraSamples(frame, [&] {
-        return [&, tracer = PathTracer(frame, medium)](const Vec3d& cameraDir, SampleRandom& random, uint32_t) mutable {
+        return [&, tracer = PathTracer(frame, medium)](const CameraRay& ray, SampleRandom& random, uint32_t) mutable {
             CameraSample seen;
-            tracer.radiance(frame.camera.position(), cameraDir, PathTracer::Start::Camera, random, &seen);
+            tracer.setInstant(ray.time, ray.seconds);
+            tracer.radiance(ray.origin, ray.dir, PathTracer::Start::Camera, random, &seen);
             return seen;
         };
     });

@@ -50,7 +50,9 @@ public:
     static constexpr int kMajorantVoxels = 4;
     static constexpr std::size_t kMaxMajorantCells = std::size_t(1) << 22;
 
-    MajorantGrid(const openvdb::FloatGrid& density, const BBoxd& box, double extinction) : mOrigin(box.min())
+    /// reach: how far a CloudMotion displaces reads (0 without one); each
+    /// value then bounds the cells that far around it too.
+    MajorantGrid(const openvdb::FloatGrid& density, const BBoxd& box, double extinction, double reach) : mOrigin(box.min())
     {
         const double voxel = density.voxelSize()[0];
         for (mCell = kMajorantVoxels * voxel;; mCell *= 2.0) {
@@ -62,8 +64,8 @@ public:
         for (auto value = density.cbeginValueOn(); value; ++value) {
             if (*value <= 0.0f) continue;
             const openvdb::CoordBBox voxels = value.getBoundingBox();
-            const Vec3d lo = density.indexToWorld(voxels.min()) - Vec3d(voxel),
-                        hi = density.indexToWorld(voxels.max()) + Vec3d(voxel);
+            const Vec3d lo = density.indexToWorld(voxels.min()) - Vec3d(voxel + reach),
+                        hi = density.indexToWorld(voxels.max()) + Vec3d(voxel + reach);
             std::array<int, 3> from, to;
             for (int axis = 0; axis < 3; ++axis) {
                 from[axis] = std::clamp(int(std::floor((lo[axis] - mOrigin[axis]) / mCell)), 0, mCells[axis] - 1);
@@ -125,33 +127,37 @@ private:
 };
 
 /// The cloud as paths see it: sigma_t = extinction x the density read
-/// trilinearly, free paths drawn under the majorant grid's bounds.
+/// trilinearly, free paths drawn under the majorant grid's bounds. With a
+/// CloudMotion, the density is read where the motion brought it from.
 class Medium {
 public:
     /// Reads the density as the fast integrator's march does.
     using Density = TrilinearSampler<openvdb::FloatTree>;
 
-    Medium(const CloudVolume* volume, const MediumSettings& settings) : mExtinction(settings.extinction)
+    Medium(const CloudVolume* volume, const MediumSettings& settings, const CloudMotion* motion)
+        : mExtinction(settings.extinction), mReach(motion ? motion->reach() : 0.0)
     {
         if (!volume || volume->empty() || mExtinction <= 0.0) return;
         mLighting = &volume->lighting();
-        mMajorants.emplace(mLighting->density(), mLighting->bounds(), mExtinction);
+        BBoxd box = mLighting->bounds();
+        box.expand(mReach);
+        mMajorants.emplace(mLighting->density(), box, mExtinction, mReach);
     }
     bool present() const { return mMajorants.has_value(); }
     Density density() const { return Density(mLighting->density().tree()); }
 
     /// Delta tracking along origin + t dir (dir unit), t in [tMin, tMax): the
     /// distance of the first real collision, if there is one.
-    std::optional<double> collision(Density& density, const Vec3d& origin, const Vec3d& dir, double tMin, double tMax,
-                                    SampleRandom& random) const
+    std::optional<double> collision(Density& density, CloudMotion::Instant* motion, const Vec3d& origin, const Vec3d& dir,
+                                    double tMin, double tMax, SampleRandom& random) const
     {
         std::optional<double> hit;
-        if (!present() || !mLighting->clip(origin, dir, tMin, tMax)) return hit;
+        if (!present() || !mLighting->clip(origin, dir, tMin, tMax, mReach)) return hit;
         mMajorants->walk(origin, dir, tMin, tMax, [&](double from, double to, double majorant) {
             for (double t = from;;) {
                 t -= std::log(1.0 - random.next()) / majorant;
                 if (t >= to) return true;
-                if (random.next() * majorant < sigmaT(density, origin + dir * t)) {
+                if (random.next() * majorant < sigmaT(density, motion, origin + dir * t)) {
                     hit = t;
                     return false;
                 }
@@ -162,16 +168,16 @@ public:
 
     /// Ratio tracking: an unbiased estimate of the transmittance along
     /// origin + t dir, t in [tMin, tMax).
-    double transmittance(Density& density, const Vec3d& origin, const Vec3d& dir, double tMin, double tMax,
-                         SampleRandom& random) const
+    double transmittance(Density& density, CloudMotion::Instant* motion, const Vec3d& origin, const Vec3d& dir, double tMin,
+                         double tMax, SampleRandom& random) const
     {
         double transmittance = 1.0;
-        if (!present() || !mLighting->clip(origin, dir, tMin, tMax)) return transmittance;
+        if (!present() || !mLighting->clip(origin, dir, tMin, tMax, mReach)) return transmittance;
         mMajorants->walk(origin, dir, tMin, tMax, [&](double from, double to, double majorant) {
             for (double t = from;;) {
                 t -= std::log(1.0 - random.next()) / majorant;
                 if (t >= to) return true;
-                transmittance *= 1.0 - sigmaT(density, origin + dir * t) / majorant;
+                transmittance *= 1.0 - sigmaT(density, motion, origin + dir * t) / majorant;
                 if (transmittance < 0.1) { // Russian roulette: what survives carries the rest
                     if (random.next() < 0.5) {
                         transmittance = 0.0;
@@ -185,13 +191,14 @@ public:
     }
 
 private:
-    double sigmaT(Density& density, const Vec3d& p) const
+    double sigmaT(Density& density, CloudMotion::Instant* motion, const Vec3d& p) const
     {
-        return mExtinction * std::max(0.0f, density.atIndex(mLighting->density().transform().worldToIndex(p)));
+        const Vec3d source = motion ? motion->source(p) : p;
+        return mExtinction * std::max(0.0f, density.atIndex(mLighting->density().transform().worldToIndex(source)));
     }
 
     const CloudLighting* mLighting = nullptr;
-    double mExtinction;
+    double mExtinction, mReach;
     std::optional<MajorantGrid> mMajorants;
 };
 
@@ -212,6 +219,14 @@ public:
         if (!medium.present()) return;
         mDensity.emplace(medium.density());
         if (sunThroughCloud == SunThroughCloud::AsTheMarch) mLight.emplace(*f.volume);
+    }
+
+    /// The instant the next paths see: surfaces at the shutter's time (in
+    /// [0, 1]), the cloud `seconds` from the frame's instant (FrameToRender::motion).
+    void setInstant(float time, double seconds)
+    {
+        mTime = time;
+        if (mFrame.motion) mMotion.emplace(*mFrame.motion, seconds);
     }
 
     /// Where a path leaves its first vertex: the camera, or a point where it
@@ -316,7 +331,7 @@ private:
         const Vec3d offset = shadowRayOrigin(hit);
         // Its own shadow ray: only when the passes are asked for.
         if (mFrame.passes && surface.normal.dot(mToSun) > 0.0 && mFrame.volume &&
-            !mFrame.surfaces->occluded(offset, mToSun, 0.0, kInfinity))
+            !mFrame.surfaces->occluded(offset, mToSun, 0.0, kInfinity, mTime))
             seen.shadow = 1.0 - mFrame.volume->surfaceSunTransmittance(offset);
     }
 
@@ -333,13 +348,13 @@ private:
                                     bool& isSurface)
     {
         if (cameraRay || !mDensity) {
-            isSurface = mFrame.surfaces->intersect(origin, dir, 0.0, kInfinity, hit);
+            isSurface = mFrame.surfaces->intersect(origin, dir, 0.0, kInfinity, hit, mTime);
             if (!mDensity) return std::nullopt;
-            return mMedium.collision(*mDensity, origin, dir, 0.0, isSurface ? hit.distance : kInfinity, random);
+            return mMedium.collision(*mDensity, motion(), origin, dir, 0.0, isSurface ? hit.distance : kInfinity, random);
         }
-        const std::optional<double> scatter = mMedium.collision(*mDensity, origin, dir, 0.0, kInfinity, random);
-        if (scatter && !mFrame.surfaces->occluded(origin, dir, 0.0, *scatter)) return scatter;
-        isSurface = mFrame.surfaces->intersect(origin, dir, 0.0, kInfinity, hit);
+        const std::optional<double> scatter = mMedium.collision(*mDensity, motion(), origin, dir, 0.0, kInfinity, random);
+        if (scatter && !mFrame.surfaces->occluded(origin, dir, 0.0, *scatter, mTime)) return scatter;
+        isSurface = mFrame.surfaces->intersect(origin, dir, 0.0, kInfinity, hit, mTime);
         return scatter && !(isSurface && hit.distance < *scatter) ? scatter : std::nullopt;
     }
 
@@ -348,18 +363,22 @@ private:
     /// instead of a ray to the sun at every event.
     double sunAtScattering(const Vec3d& p, SampleRandom& random)
     {
-        if (mSunThroughCloud == SunThroughCloud::AsTheMarch) return mFrame.volume->sunThrough(*mLight, p);
+        if (mSunThroughCloud == SunThroughCloud::AsTheMarch) return mFrame.volume->sunThrough(*mLight, source(p));
         return sunReaching(p, random);
     }
 
     /// The sun's light reaching p (offset off any surface) through surfaces and cloud.
     double sunReaching(const Vec3d& p, SampleRandom& random)
     {
-        if (mFrame.surfaces->occluded(p, mToSun, 0.0, kInfinity)) return 0.0;
+        if (mFrame.surfaces->occluded(p, mToSun, 0.0, kInfinity, mTime)) return 0.0;
         if (!mDensity) return 1.0;
-        if (mSunThroughCloud == SunThroughCloud::AsTheMarch) return mFrame.volume->sunThroughCloud(*mLight, p);
-        return mMedium.transmittance(*mDensity, p, mToSun, 0.0, kInfinity, random);
+        if (mSunThroughCloud == SunThroughCloud::AsTheMarch) return mFrame.volume->sunThroughCloud(*mLight, source(p));
+        return mMedium.transmittance(*mDensity, motion(), p, mToSun, 0.0, kInfinity, random);
     }
+
+    CloudMotion::Instant* motion() { return mMotion ? &*mMotion : nullptr; }
+    /// Where the frame's cloud holds what lies at p at this instant.
+    Vec3d source(const Vec3d& p) { return mMotion ? mMotion->source(p) : p; }
 
     const FrameToRender& mFrame;
     const RenderSettings& mSettings;
@@ -368,6 +387,8 @@ private:
     SunThroughCloud mSunThroughCloud;
     std::optional<Medium::Density> mDensity;
     std::optional<CloudVolume::LightReaders> mLight; ///< with SunThroughCloud::AsTheMarch
+    float mTime = 0.0f;                              ///< setInstant's
+    std::optional<CloudMotion::Instant> mMotion;     ///< setInstant's, with FrameToRender::motion
 };
 
 } // namespace vfield

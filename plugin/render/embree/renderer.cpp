@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace vfield {
 
@@ -128,13 +129,13 @@ RenderImage renderFast(const FrameToRender& f)
         };
         return [&, drawn = std::array<PixelNoise, kLanes>()](SamplePacket& packet, CameraSample* seen) mutable {
             const int count = packet.count;
-            std::array<Vec3d, kLanes> origins, shadowOrigins, towardsSun;
+            std::array<Vec3d, kLanes> shadowOrigins, towardsSun;
             std::array<SurfaceHit, kLanes> hits;
             std::array<SurfaceShading, kLanes> surfaces;
             std::array<bool, kLanes> isSurface{}, litSide{}, sunBlocked{};
-            origins.fill(f.camera.position());
             towardsSun.fill(toSun);
-            f.surfaces->intersect(origins.data(), packet.dirs.data(), count, 0.0, kFar, hits.data(), isSurface.data());
+            f.surfaces->intersect(packet.origins.data(), packet.dirs.data(), count, 0.0, kFar, hits.data(), isSurface.data(),
+                                  packet.times.data());
             for (int lane = 0; lane < count; ++lane) {
                 if (!isSurface[lane]) continue;
                 const SurfaceHit& hit = hits[lane];
@@ -147,7 +148,8 @@ RenderImage renderFast(const FrameToRender& f)
                 litSide[lane] = facesSun(f, surfaces[lane]);
                 shadowOrigins[lane] = shadowRayOrigin(hit);
             }
-            f.surfaces->occluded(shadowOrigins.data(), towardsSun.data(), litSide.data(), count, 0.0, kFar, sunBlocked.data());
+            f.surfaces->occluded(shadowOrigins.data(), towardsSun.data(), litSide.data(), count, 0.0, kFar, sunBlocked.data(),
+                                 packet.times.data());
 
             for (int lane = 0; lane < count; ++lane) {
                 const Vec3d& dir = packet.dirs[lane];
@@ -168,9 +170,11 @@ RenderImage renderFast(const FrameToRender& f)
                     sample.behindAlpha = 1.0;
                 }
                 if (f.volume) {
-                    const CloudVolume::Segment cloud =
-                        f.volume->march(f.camera.position(), dir, 0.0, isSurface[lane] ? hit.distance : 1e30,
-                                        packet.randoms[lane].next(), sunRadiance, skyAmbient, tracedLight ? &scattered : nullptr);
+                    std::optional<CloudMotion::Instant> motion;
+                    if (f.motion) motion.emplace(*f.motion, packet.seconds[lane]);
+                    const CloudVolume::Segment cloud = f.volume->march(
+                        packet.origins[lane], dir, 0.0, isSurface[lane] ? hit.distance : 1e30, packet.randoms[lane].next(),
+                        sunRadiance, skyAmbient, tracedLight ? &scattered : nullptr, motion ? &*motion : nullptr);
                     sample.cloud = throughHaze(s.sky, cloud.radiance, cloud.distance, 1.0 - cloud.transmittance);
                     sample.transmittance = cloud.transmittance;
                 }

@@ -73,7 +73,9 @@ ScatteredLightGrid traceScatteredLight(const FrameToRender& f)
         tile.setMaxDepth(openvdb::FloatTree::ValueOnCIter::LEAF_DEPTH - 1);
         for (; tile; ++tile) cover(tile.getBoundingBox());
     }
-    const Medium medium(f.volume, f.settings->medium);
+    // The frame's instant: under motion blur, the march reads the lattice
+    // where the motion brought each sample from.
+    const Medium medium(f.volume, f.settings->medium, nullptr);
     // Streams apart from the camera's (seed, pixel, sample) ones.
     const uint32_t stream = f.settings->image.noiseStream(f.frame) ^ 0x9e3779b9u;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cast.size(), 256), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -85,7 +87,7 @@ ScatteredLightGrid traceScatteredLight(const FrameToRender& f)
             const double y = region.y0 + (double(n / std::size_t(columns)) + random.next()) * region.height() / rows;
             const Vec3d origin = f.camera.position(), dir = f.camera.direction(x, y);
             // A surface is looked for only before a collision, as the reference's paths do (nextEvent).
-            const std::optional<double> scatter = medium.collision(density, origin, dir, 0.0, kInfinity, random);
+            const std::optional<double> scatter = medium.collision(density, nullptr, origin, dir, 0.0, kInfinity, random);
             if (scatter && !f.surfaces->occluded(origin, dir, 0.0, *scatter))
                 cast[n] = Gathered{dir, origin + dir * *scatter, Vec3d(0.0)};
         }

@@ -3,11 +3,13 @@
 #include <vfield/core/error.h>
 
 #include <embree3/rtcore.h>
+#include <embree3/rtcore_quaternion.h>
 
 #include <array>
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 
 namespace vfield {
@@ -61,6 +63,20 @@ void toEmbree(const Transform& t, float out[12])
         for (int row = 0; row < 3; ++row) out[3 * column + row] = float(m(column, row));
 }
 
+/// Scale, then rotation, then translation: the map Transform makes, in the
+/// form Embree interpolates over time (slerp of the rotation).
+RTCQuaternionDecomposition toEmbreeDecomposition(const Transform& t)
+{
+    RTCQuaternionDecomposition d;
+    rtcInitQuaternionDecomposition(&d);
+    const float s = float(t.scale);
+    rtcQuaternionDecompositionSetScale(&d, s, s, s);
+    const Quatd& q = t.rotation;
+    rtcQuaternionDecompositionSetQuaternion(&d, float(q.w()), float(q.x()), float(q.y()), float(q.z()));
+    rtcQuaternionDecompositionSetTranslation(&d, float(t.translation[0]), float(t.translation[1]), float(t.translation[2]));
+    return d;
+}
+
 } // namespace
 
 struct SurfaceScene::Impl {
@@ -74,7 +90,9 @@ struct SurfaceScene::Impl {
         int object;
         MeshBvh bvh;
         RTCGeometry instance = nullptr;
-        Transform pose;
+        Transform pose, closingPose; ///< at times 0 and 1 (the same unless it moves)
+        bool moves = false;
+        Transform poseAt(float time) const { return moves ? interpolate(pose, closingPose, time) : pose; }
     };
     std::vector<Dynamic> dynamics; ///< instance id = index + 1 (0 is the static one)
     RTCGeometry staticInstance = nullptr;
@@ -83,17 +101,25 @@ struct SurfaceScene::Impl {
     /// itself, which saves traversing the instance level.
     RTCScene traced() const { return dynamics.empty() && staticBvh.scene ? staticBvh.scene : top; }
 
+    Dynamic& dynamic(int object)
+    {
+        for (Dynamic& d : dynamics)
+            if (d.object == object) return d;
+        throw Error("no dynamic surface for object " + std::to_string(object));
+    }
+
     /// What Embree found along origin + t dir (dir unit), as a SurfaceHit:
     /// the smooth normal from the corners' normals, both normals in world
     /// space and facing the ray. instance is RTC_INVALID_GEOMETRY_ID for a hit
     /// in the static BVH traced directly; ng the geometric normal in the
     /// instance's object space.
     void fill(const Vec3d& origin, const Vec3d& dir, float distance, float u, float v, unsigned primitive, unsigned instance,
-              const Vec3d& ng, SurfaceHit& hit) const
+              const Vec3d& ng, float time, SurfaceHit& hit) const
     {
         const unsigned index = instance == RTC_INVALID_GEOMETRY_ID ? 0 : instance;
         const MeshBvh& bvh = index == 0 ? staticBvh : dynamics[index - 1].bvh;
-        const Transform* pose = index == 0 ? nullptr : &dynamics[index - 1].pose;
+        const std::optional<Transform> pose =
+            index == 0 ? std::nullopt : std::optional<Transform>(dynamics[index - 1].poseAt(time));
         const unsigned* corner = bvh.indices + 3 * std::size_t(primitive);
         const double du = u, dv = v;
         Vec3d shading = Vec3d(bvh.normals[corner[0]]) * (1 - du - dv) + Vec3d(bvh.normals[corner[1]]) * du +
@@ -158,16 +184,26 @@ void SurfaceScene::addDynamic(int object, const TriangleMesh& mesh)
 
 void SurfaceScene::setPose(int object, const Transform& pose)
 {
-    for (Impl::Dynamic& d : mImpl->dynamics)
-        if (d.object == object) {
-            d.pose = pose;
-            float xfm[12];
-            toEmbree(pose, xfm);
-            rtcSetGeometryTransform(d.instance, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
-            rtcCommitGeometry(d.instance);
-            return;
-        }
-    throw Error("no dynamic surface for object " + std::to_string(object));
+    Impl::Dynamic& d = mImpl->dynamic(object);
+    d.pose = d.closingPose = pose;
+    d.moves = false;
+    float xfm[12];
+    toEmbree(pose, xfm);
+    rtcSetGeometryTimeStepCount(d.instance, 1);
+    rtcSetGeometryTransform(d.instance, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+    rtcCommitGeometry(d.instance);
+}
+
+void SurfaceScene::setMotion(int object, const Transform& open, const Transform& close)
+{
+    Impl::Dynamic& d = mImpl->dynamic(object);
+    d.pose = open;
+    d.closingPose = close;
+    d.moves = true;
+    rtcSetGeometryTimeStepCount(d.instance, 2);
+    const RTCQuaternionDecomposition poses[2] = {toEmbreeDecomposition(open), toEmbreeDecomposition(close)};
+    for (unsigned step = 0; step < 2; ++step) rtcSetGeometryTransformQuaternion(d.instance, step, &poses[step]);
+    rtcCommitGeometry(d.instance);
 }
 
 void SurfaceScene::commit()
@@ -189,7 +225,7 @@ void SurfaceScene::commit()
     checkDevice(mImpl->device, "commit the scene");
 }
 
-bool SurfaceScene::intersect(const Vec3d& origin, const Vec3d& dir, double tMin, double tMax, SurfaceHit& hit) const
+bool SurfaceScene::intersect(const Vec3d& origin, const Vec3d& dir, double tMin, double tMax, SurfaceHit& hit, float time) const
 {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
@@ -204,12 +240,12 @@ bool SurfaceScene::intersect(const Vec3d& origin, const Vec3d& dir, double tMin,
     rh.ray.tfar = float(std::min(tMax, double(std::numeric_limits<float>::max())));
     rh.ray.mask = ~0u;
     rh.ray.flags = 0;
-    rh.ray.time = 0.0f;
+    rh.ray.time = time;
     rh.hit.geomID = rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(mImpl->traced(), &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     mImpl->fill(origin, dir, rh.ray.tfar, rh.hit.u, rh.hit.v, rh.hit.primID, rh.hit.instID[0],
-                Vec3d(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), hit);
+                Vec3d(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), time, hit);
     return true;
 }
 
@@ -220,7 +256,7 @@ using PacketLanes = std::array<int, SurfaceScene::kPacket>;
 
 /// A ray of a packet as the single-ray queries set it.
 template<typename Ray8>
-void setLane(Ray8& ray, int lane, const Vec3d& origin, const Vec3d& dir, double tMin, double tMax)
+void setLane(Ray8& ray, int lane, const Vec3d& origin, const Vec3d& dir, double tMin, double tMax, float time)
 {
     ray.org_x[lane] = float(origin[0]);
     ray.org_y[lane] = float(origin[1]);
@@ -232,7 +268,7 @@ void setLane(Ray8& ray, int lane, const Vec3d& origin, const Vec3d& dir, double 
     ray.tfar[lane] = float(std::min(tMax, double(std::numeric_limits<float>::max())));
     ray.mask[lane] = ~0u;
     ray.flags[lane] = 0;
-    ray.time[lane] = 0.0f;
+    ray.time[lane] = time;
 }
 
 /// The context of a packet of count rays, coherent ones.
@@ -250,14 +286,14 @@ RTCIntersectContext packetContext(int count)
 } // namespace
 
 void SurfaceScene::intersect(const Vec3d* origins, const Vec3d* dirs, int count, double tMin, double tMax, SurfaceHit* hits,
-                             bool* found) const
+                             bool* found, const float* times) const
 {
     RTCIntersectContext context = packetContext(count);
     alignas(32) PacketLanes valid{};
     alignas(32) RTCRayHit8 rh{};
     for (int lane = 0; lane < count; ++lane) {
         valid[lane] = -1;
-        setLane(rh.ray, lane, origins[lane], dirs[lane], tMin, tMax);
+        setLane(rh.ray, lane, origins[lane], dirs[lane], tMin, tMax, times ? times[lane] : 0.0f);
         rh.hit.geomID[lane] = rh.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
     }
     rtcIntersect8(valid.data(), mImpl->traced(), &context, &rh);
@@ -265,12 +301,13 @@ void SurfaceScene::intersect(const Vec3d* origins, const Vec3d* dirs, int count,
         found[lane] = rh.hit.geomID[lane] != RTC_INVALID_GEOMETRY_ID;
         if (found[lane])
             mImpl->fill(origins[lane], dirs[lane], rh.ray.tfar[lane], rh.hit.u[lane], rh.hit.v[lane], rh.hit.primID[lane],
-                        rh.hit.instID[0][lane], Vec3d(rh.hit.Ng_x[lane], rh.hit.Ng_y[lane], rh.hit.Ng_z[lane]), hits[lane]);
+                        rh.hit.instID[0][lane], Vec3d(rh.hit.Ng_x[lane], rh.hit.Ng_y[lane], rh.hit.Ng_z[lane]),
+                        times ? times[lane] : 0.0f, hits[lane]);
     }
 }
 
 void SurfaceScene::occluded(const Vec3d* origins, const Vec3d* dirs, const bool* active, int count, double tMin, double tMax,
-                            bool* blocked) const
+                            bool* blocked, const float* times) const
 {
     RTCIntersectContext context = packetContext(count);
     alignas(32) PacketLanes valid{};
@@ -280,13 +317,13 @@ void SurfaceScene::occluded(const Vec3d* origins, const Vec3d* dirs, const bool*
         if (!active[lane]) continue;
         valid[lane] = -1;
         any = true;
-        setLane(ray, lane, origins[lane], dirs[lane], tMin, tMax);
+        setLane(ray, lane, origins[lane], dirs[lane], tMin, tMax, times ? times[lane] : 0.0f);
     }
     if (any) rtcOccluded8(valid.data(), mImpl->traced(), &context, &ray);
     for (int lane = 0; lane < count; ++lane) blocked[lane] = active[lane] && ray.tfar[lane] < 0.0f; // -inf on a hit
 }
 
-bool SurfaceScene::occluded(const Vec3d& origin, const Vec3d& dir, double tMin, double tMax) const
+bool SurfaceScene::occluded(const Vec3d& origin, const Vec3d& dir, double tMin, double tMax, float time) const
 {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
@@ -301,7 +338,7 @@ bool SurfaceScene::occluded(const Vec3d& origin, const Vec3d& dir, double tMin, 
     ray.tfar = float(std::min(tMax, double(std::numeric_limits<float>::max())));
     ray.mask = ~0u;
     ray.flags = 0;
-    ray.time = 0.0f;
+    ray.time = time;
     rtcOccluded1(mImpl->traced(), &context, &ray);
     return ray.tfar < 0.0f; // Embree sets tfar to -inf on a hit
 }

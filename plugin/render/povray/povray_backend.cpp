@@ -48,6 +48,8 @@ std::vector<std::string> PovrayBackend::cannotDraw(const RenderSettings& s) cons
 {
     std::vector<std::string> lines;
     if (s.sky.hazeDistance > 0.0) lines.push_back("povray cannot draw haze (sky.hazeDistance): its frames show clear air");
+    if (s.image.seesMotion())
+        lines.push_back("povray cannot draw motion blur (render.shutter): its frames show the frame's instant");
     if (s.medium.backWeight > 0.0)
         lines.push_back(
             "povray cannot draw the phase's backward lobe (render.backWeight): it scatters with the forward lobe only");

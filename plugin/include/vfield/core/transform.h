@@ -54,4 +54,11 @@ struct Transform {
     }
 };
 
+/// Spherical linear interpolation of unit quaternions, the shorter way round.
+Quatd slerp(const Quatd& a, Quatd b, double t);
+
+/// The rigid motion between two poses at t in [0, 1]: translation and scale
+/// linear, rotation by slerp (a constant angular velocity). t = 1 gives b exactly.
+Transform interpolate(const Transform& a, const Transform& b, double t);
+
 } // namespace vfield

@@ -64,6 +64,9 @@ public:
     /// named `density`, every active value is finite, and it was made by the
     /// simulation whose inputs hash is given (when given). Throws FileError.
     openvdb::FloatGrid::Ptr readDensity(int frame, std::optional<uint64_t> inputsHash = std::nullopt) const;
+    /// The density checked as readDensity checks it, and the `vel` grid
+    /// beside it (null in a file without one).
+    DensityGrids readDensityGrids(int frame, std::optional<uint64_t> inputsHash = std::nullopt) const;
     /// The frame's files against the record of them and the folder's inputs
     /// hash: their metadata always, their bytes with checkBytes.
     FrameCheck checkFrame(const FrameRecord& record, uint64_t inputsHash, bool checkBytes = true) const;

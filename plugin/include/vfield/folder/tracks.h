@@ -35,6 +35,14 @@ public:
     /// The object's poses from the first frame of its track through frame, in
     /// frame order: the path a following camera rides. Throws as pose() does.
     std::vector<Transform> path(const std::string& object, int frame) const;
+    /// The pose at a fractional frame (a shutter's open or close), between
+    /// the entries of the frames around it by interpolate(); where the track
+    /// holds only one of them (before its first frame, after its last), that
+    /// one's pose. Throws as at() does when it holds neither.
+    Transform poseAt(const std::string& object, double frame) const;
+    /// The path through the frame before a fractional frame, ending at its
+    /// poseAt(): what a following camera rides to it.
+    std::vector<Transform> pathTo(const std::string& object, double frame) const;
 
     /// tracks.json's text; fps is recorded beside the tracks, with the convention they follow.
     std::string toJsonText(double fps) const;
@@ -45,7 +53,8 @@ public:
     static Tracks fromObjectsJsonText(const std::string& text, const std::string& path);
 
 private:
-    std::string mPath; ///< where it was read from, for messages
+    const TrackEntry* find(const std::string& object, int frame) const; ///< null when there is none
+    std::string mPath;                                                  ///< where it was read from, for messages
     std::map<std::string, std::vector<TrackEntry>> mObjects;
 };
 

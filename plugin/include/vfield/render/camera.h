@@ -28,6 +28,10 @@ public:
     static Camera fromSettings(const CameraSettings& settings, int width, int height);
     /// A camera at position looking at target, with the settings' up and field of view.
     static Camera looking(const CameraSettings& settings, const Vec3d& position, const Vec3d& target, int width, int height);
+    /// Between two cameras of one image at t in [0, 1] (a camera moving over
+    /// a shutter): its position on the line between theirs, its forward and
+    /// up directions their normalised blend, its field of view between theirs.
+    static Camera between(const Camera& a, const Camera& b, double t);
 
     const Vec3d& position() const { return mPosition; }
     /// The camera's frame, unit vectors: forward, right and up (right = forward x up).

@@ -36,9 +36,9 @@ public:
     const BBoxd& bounds() const { return mBounds; }
     const Vec3d& toSun() const { return mToSun; }
 
-    /// Where the ray origin + t dir (dir unit) is inside bounds(), narrowing
-    /// [tMin, tMax]; false if it misses.
-    bool clip(const Vec3d& origin, const Vec3d& dir, double& tMin, double& tMax) const;
+    /// Where the ray origin + t dir (dir unit) is inside bounds() grown by
+    /// `grow` on every side, narrowing [tMin, tMax]; false if it misses.
+    bool clip(const Vec3d& origin, const Vec3d& dir, double& tMin, double& tMax, double grow = 0.0) const;
 
     /// Transmittance of the cloud alone from p towards the sun (1 where no
     /// cloud is in the way), for surfaces: their shadows from other surfaces

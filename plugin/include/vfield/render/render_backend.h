@@ -14,6 +14,7 @@
 
 #include <vfield/render/camera.h>
 #include <vfield/render/cloud_lighting.h>
+#include <vfield/render/cloud_motion.h>
 
 #include <functional>
 #include <map>
@@ -26,9 +27,16 @@ namespace vfield {
 /// One frame as a back-end draws it (world space).
 struct FrameView {
     int frame = 0;
-    Camera camera{Vec3d(0, 0, 1), Vec3d(0.0), Vec3d(0, 1, 0), 45, 1, 1};
-    std::map<int, Transform> poses;       ///< the dynamic objects' poses, by object index
+    Camera camera{Vec3d(0, 0, 1), Vec3d(0.0), Vec3d(0, 1, 0), 45, 1, 1}; ///< at the frame's instant
+    std::map<int, Transform> poses;       ///< the dynamic objects' poses at the frame's instant, by object index
     const CloudLighting* cloud = nullptr; ///< the frame's density and the light in it (never null)
+    // What a back-end that draws motion blur sees over the shutter
+    // (ImageSettings::shutterOpen, shutterClose); the dynamic objects' poses
+    // over it are the SurfaceScene's.
+    std::optional<Camera> openingCamera; ///< at the shutter's open; unset: `camera`
+    std::optional<Camera> closingCamera; ///< at its close, when the camera moves over it
+    const CloudMotion* motion = nullptr; ///< the cloud's motion over it; null: none
+    double secondsPerFrame = 1.0 / 24.0; ///< the scene's frames in seconds
     /// Told the fraction of the frame's pixels done, about once a second, one
     /// call at a time (from worker threads); may be unset.
     std::function<void(double fraction)> progress;

@@ -134,6 +134,15 @@ struct ImageSettings {
     /// beauty; frames written only as PNG are rendered without them.
     bool passes = true;
     ExrDepth exrDepth = ExrDepth::Half;
+    /// When the shutter opens and closes, in frames from the frame's instant
+    /// (Blender's shutter of 0.5 is [-0.25, 0.25]). Open as long as it is
+    /// closed, [t, t], the frame is the instant t frames from its own.
+    double shutterOpen = 0.0, shutterClose = 0.0;
+
+    /// Samples spread over an open shutter: motion blur.
+    bool motionBlur() const { return shutterClose > shutterOpen; }
+    /// The shutter sees more than the frame's instant, or another instant.
+    bool seesMotion() const { return shutterOpen != 0.0 || shutterClose != 0.0; }
 
     /// The stream every random number of a frame is drawn from (with the pixel and sample).
     uint32_t noiseStream(int frame) const
@@ -173,6 +182,12 @@ struct ImageSettings {
         visit(field("exrDepth", self.exrDepth)
                   .doc("the precision of EXR frames' colours, alpha and passes: half (16-bit floats, as Nuke and Blender "
                        "write by default) or float (32-bit); depth is always 32-bit"));
+        visit(field("shutter", pairOf(self.shutterOpen, self.shutterClose, "open, close"))
+                  .range(-1, 1)
+                  .unit("frames")
+                  .doc("when the shutter opens and closes, from the frame's instant: [-0.25, 0.25] blurs what moves "
+                       "over half a frame (Blender's shutter 0.5), the cloud by its `vel` grid, dynamic objects and a "
+                       "following camera by their tracks; [0, 0], the default, renders the instant. Embree back-end only"));
     }
 };
 

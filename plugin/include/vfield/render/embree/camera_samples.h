@@ -4,6 +4,9 @@
 /// parallel, samplesPerPixel camera rays a pixel (one through the centre, or
 /// all jittered over the pixel), each with its own counter-based random
 /// stream, averaged into premultiplied RGBA and the nearest surface's depth.
+/// With the shutter open, a pixel's samples are spread over it, one in each
+/// of samplesPerPixel equal parts (stratified), from a camera placed at
+/// each sample's time.
 
 #include <vfield/core/stopwatch.h>
 #include <vfield/render/embree/renderer.h>
@@ -123,7 +126,10 @@ private:
 struct SamplePacket {
     static constexpr int kSize = SurfaceScene::kPacket;
     int count = 0;                           ///< lanes in use
+    std::array<Vec3d, kSize> origins;        ///< the camera's position at each sample's time
     std::array<Vec3d, kSize> dirs;           ///< unit camera directions
+    std::array<float, kSize> times{};        ///< in the shutter: 0 at its open, 1 at its close (SurfaceScene's)
+    std::array<double, kSize> seconds{};     ///< from the frame's instant (CloudMotion's)
     std::array<SampleRandom, kSize> randoms; ///< each sample's stream, past the pixel jitter's draws
     std::array<uint32_t, kSize> pixels;
 };
@@ -151,6 +157,7 @@ RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler&
     const ImageSettings& settings = f.settings->image;
     const int width = settings.width, height = settings.height, samplesPerPixel = settings.samplesPerPixel;
     const bool adaptive = settings.adaptiveThreshold > 0.0 && samplesPerPixel > 1;
+    const bool motionBlur = settings.motionBlur();
     const uint32_t stream = settings.noiseStream(f.frame);
     RenderImage image;
     image.width = width;
@@ -192,6 +199,7 @@ RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler&
         SamplePacket packet;
         std::array<CameraSample, SamplePacket::kSize> seen;
         std::array<uint32_t, SamplePacket::kSize> lanePixels;
+        Camera moving = f.camera; // at a sample's time, when the camera moves over the shutter
         std::size_t pixels = 0;
         for (int y = r.rows().begin(); y != r.rows().end(); ++y)
             for (int block = r.cols().begin(); block != r.cols().end(); ++block) {
@@ -209,7 +217,14 @@ RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler&
                         // One sample at the pixel centre, the rest jittered over it.
                         const double jx = samplesPerPixel == 1 ? 0.5 : random.next();
                         const double jy = samplesPerPixel == 1 ? 0.5 : random.next();
-                        packet.dirs[lane] = f.camera.direction(pixel % uint32_t(width) + jx, pixel / uint32_t(width) + jy);
+                        const double shutter = motionBlur ? (sample + random.next()) / samplesPerPixel : 0.0;
+                        const Camera& camera =
+                            f.closingCamera ? (moving = Camera::between(f.camera, *f.closingCamera, shutter)) : f.camera;
+                        packet.origins[lane] = camera.position();
+                        packet.dirs[lane] = camera.direction(pixel % uint32_t(width) + jx, pixel / uint32_t(width) + jy);
+                        packet.times[lane] = float(shutter);
+                        packet.seconds[lane] =
+                            (settings.shutterOpen + shutter * (settings.shutterClose - settings.shutterOpen)) * f.secondsPerFrame;
                     }
                     sampler(packet, seen.data());
                     for (int lane = 0; lane < packet.count; ++lane) {
@@ -249,16 +264,25 @@ RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler&
     return image;
 }
 
+/// One camera ray of a SamplePacket.
+struct CameraRay {
+    Vec3d origin, dir;
+    float time;     ///< SamplePacket::times
+    double seconds; ///< SamplePacket::seconds
+};
+
 /// renderCameraPackets for a sampler of one sample at a time:
 /// makeSampler() returns a callable
-/// CameraSample(const Vec3d& dir, SampleRandom& random, uint32_t pixel).
+/// CameraSample(const CameraRay& ray, SampleRandom& random, uint32_t pixel).
 template<typename MakeSampler>
 RenderImage renderCameraSamples(const FrameToRender& f, const MakeSampler& makeSampler)
 {
     return renderCameraPackets(f, [&] {
         return [sampler = makeSampler()](SamplePacket& packet, CameraSample* seen) mutable {
-            for (int lane = 0; lane < packet.count; ++lane)
-                seen[lane] = sampler(packet.dirs[lane], packet.randoms[lane], packet.pixels[lane]);
+            for (int lane = 0; lane < packet.count; ++lane) {
+                const CameraRay ray{packet.origins[lane], packet.dirs[lane], packet.times[lane], packet.seconds[lane]};
+                seen[lane] = sampler(ray, packet.randoms[lane], packet.pixels[lane]);
+            }
         };
     });
 }

@@ -16,6 +16,7 @@
 
 #include <vfield/core/trilinear_sampler.h>
 #include <vfield/render/cloud_lighting.h>
+#include <vfield/render/cloud_motion.h>
 #include <vfield/render/optical_depth_map.h>
 
 #include <array>
@@ -36,8 +37,11 @@ struct ScatteredLightGrid {
 
 class CloudVolume {
 public:
-    /// lighting must outlive the volume.
-    CloudVolume(const CloudLighting& lighting, const MediumSettings& medium, const IntegratorSettings& integrator);
+    /// lighting must outlive the volume. motionReach: the farthest a
+    /// CloudMotion displaces a read (0 without motion blur); the march then
+    /// looks that much beyond the density's voxels.
+    CloudVolume(const CloudLighting& lighting, const MediumSettings& medium, const IntegratorSettings& integrator,
+                double motionReach = 0.0);
 
     bool empty() const { return mLighting.empty(); }
     /// The share of the sun that reaches a surface point through the cloud:
@@ -58,8 +62,10 @@ public:
     /// sunRadiance and skyRadiance light it, and the octaves give back what
     /// the cloud scatters more than once; with `scattered`, only the sun's
     /// single scattering is marched and the rest of the light read from it.
+    /// With `motion`, each sample reads the cloud where the motion brought it from.
     Segment march(const Vec3d& origin, const Vec3d& dir, double tMin, double tMax, double jitter, const Vec3d& sunRadiance,
-                  const Vec3d& skyRadiance, const ScatteredLightGrid* scattered = nullptr) const;
+                  const Vec3d& skyRadiance, const ScatteredLightGrid* scattered = nullptr,
+                  CloudMotion::Instant* motion = nullptr) const;
 
     /// A reader of the density, for one thread.
     using Density = TrilinearSampler<openvdb::FloatTree>;
@@ -108,6 +114,7 @@ private:
     };
     std::vector<Octave> mOctaves;
     double mExtinction, mAlbedo, mStep;
+    double mMotionReach; ///< CloudMotion::reach(), 0 without motion blur
     /// The density's integral towards the sun and up to the sky.
     OpticalDepthMap mSunDepth, mSkyDepth;
     double mNearStep = 0.0; ///< the march's steps towards a light before its map is read: a density voxel

@@ -14,6 +14,7 @@
 /// the same every frame unless the seed is animated.
 
 #include <vfield/render/camera.h>
+#include <vfield/render/cloud_motion.h>
 #include <vfield/render/embree/cloud_volume.h>
 #include <vfield/render/embree/surfaces.h>
 #include <vfield/render/frame_image.h>
@@ -28,11 +29,16 @@ struct FrameToRender {
     const SurfaceScene* surfaces = nullptr;
     std::map<int, SurfaceMaterial> materials;                            ///< per object; painted grey where missing
     const CloudVolume* volume = nullptr;                                 ///< may be null: surfaces only
-    Camera camera{Vec3d(0, 0, 1), Vec3d(0.0), Vec3d(0, 1, 0), 45, 1, 1}; ///< set per frame
-    int frame = 0;                                                       ///< keys the random numbers
-    double terrainLow = 0.0, terrainHigh = 1.0;                          ///< heights for the terrain's colours
-    bool passes = false;                                                 ///< render RenderImage::passes too
-    std::function<void(double fraction)> progress;                       ///< FrameView::progress
+    Camera camera{Vec3d(0, 0, 1), Vec3d(0.0), Vec3d(0, 1, 0), 45, 1, 1}; ///< set per frame; at the shutter's open
+    std::optional<Camera> closingCamera; ///< at the shutter's close, for a camera that moves over it
+    /// The cloud's motion over the shutter (ImageSettings::shutterOpen and
+    /// shutterClose); null: the cloud as the frame holds it.
+    const CloudMotion* motion = nullptr;
+    double secondsPerFrame = 1.0 / 24.0;           ///< the shutter's frames in seconds, for the cloud's motion
+    int frame = 0;                                 ///< keys the random numbers
+    double terrainLow = 0.0, terrainHigh = 1.0;    ///< heights for the terrain's colours
+    bool passes = false;                           ///< render RenderImage::passes too
+    std::function<void(double fraction)> progress; ///< FrameView::progress
 };
 
 /// Renders with the settings' integrator (IntegratorSettings::kind).
