@@ -33,7 +33,7 @@ void extendByOneVoxel(openvdb::Vec3SGrid& velocity)
     const openvdb::Vec3SGrid::Ptr before = velocity.deepCopy();
     openvdb::tools::dilateActiveValues(velocity.tree(), 1, openvdb::tools::NN_FACE_EDGE_VERTEX, openvdb::tools::EXPAND_TILES);
     openvdb::tree::LeafManager<openvdb::Vec3STree> leaves(velocity.tree());
-    leaves.foreach([&](openvdb::Vec3STree::LeafNodeType& leaf, std::size_t) {
+    leaves.foreach ([&](openvdb::Vec3STree::LeafNodeType& leaf, std::size_t) {
         openvdb::tree::ValueAccessor<const openvdb::Vec3STree, false> old(before->tree());
         for (auto v = leaf.beginValueOn(); v; ++v) {
             const openvdb::Coord ijk = v.getCoord();

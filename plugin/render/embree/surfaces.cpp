@@ -16,43 +16,11 @@ namespace vfield {
 
 namespace {
 
-/// One Embree scene holding one mesh, with the normals to shade it.
-struct MeshBvh {
-    RTCScene scene = nullptr;
-    std::vector<Vec3f> normals;        ///< per point, in the mesh's own space
-    const unsigned* indices = nullptr; ///< the triangles' corners, three a triangle (Embree's buffer)
-};
-
 void checkDevice(RTCDevice device, const char* what)
 {
     const RTCError error = rtcGetDeviceError(device);
     if (error != RTC_ERROR_NONE)
         throw Error(std::string("Embree failed to ") + what + " (error " + std::to_string(int(error)) + ")");
-}
-
-MeshBvh buildBvh(RTCDevice device, const TriangleMesh& mesh, RTCBuildQuality quality)
-{
-    MeshBvh bvh;
-    bvh.normals = vertexNormals(mesh);
-    bvh.scene = rtcNewScene(device);
-    rtcSetSceneBuildQuality(bvh.scene, quality);
-    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vertices = static_cast<float*>(
-        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.points.size()));
-    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                   3 * sizeof(unsigned), mesh.triangleCount()));
-    checkDevice(device, "allocate a mesh");
-    for (std::size_t i = 0; i < mesh.points.size(); ++i)
-        for (int k = 0; k < 3; ++k) vertices[3 * i + k] = mesh.points[i][k];
-    for (std::size_t t = 0; t < mesh.triangleCount(); ++t)
-        for (int k = 0; k < 3; ++k) indices[3 * t + k] = mesh.triangles[t][k];
-    bvh.indices = indices;
-    rtcCommitGeometry(geometry);
-    rtcAttachGeometryByID(bvh.scene, geometry, 0);
-    rtcReleaseGeometry(geometry);
-    rtcCommitScene(bvh.scene);
-    checkDevice(device, "build a BVH");
-    return bvh;
 }
 
 /// Embree's 3x4 column-major matrix of a transform.
@@ -80,6 +48,14 @@ RTCQuaternionDecomposition toEmbreeDecomposition(const Transform& t)
 } // namespace
 
 struct SurfaceScene::Impl {
+    /// One Embree scene holding one mesh, with the normals to shade it.
+    struct MeshBvh {
+        RTCScene scene = nullptr;
+        std::vector<Vec3f> normals;        ///< per point, in the mesh's own space
+        const unsigned* indices = nullptr; ///< the triangles' corners, three a triangle (Embree's buffer)
+    };
+    static MeshBvh buildBvh(RTCDevice device, const TriangleMesh& mesh, RTCBuildQuality quality);
+
     RTCDevice device = nullptr;
     RTCScene top = nullptr;          ///< instances of the static BVH and of each dynamic mesh
     TriangleMesh staticMesh;         ///< world space, all static meshes
@@ -151,6 +127,31 @@ struct SurfaceScene::Impl {
     }
 };
 
+SurfaceScene::Impl::MeshBvh SurfaceScene::Impl::buildBvh(RTCDevice device, const TriangleMesh& mesh, RTCBuildQuality quality)
+{
+    MeshBvh bvh;
+    bvh.normals = vertexNormals(mesh);
+    bvh.scene = rtcNewScene(device);
+    rtcSetSceneBuildQuality(bvh.scene, quality);
+    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vertices = static_cast<float*>(
+        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.points.size()));
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                   3 * sizeof(unsigned), mesh.triangleCount()));
+    checkDevice(device, "allocate a mesh");
+    for (std::size_t i = 0; i < mesh.points.size(); ++i)
+        for (int k = 0; k < 3; ++k) vertices[3 * i + k] = mesh.points[i][k];
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t)
+        for (int k = 0; k < 3; ++k) indices[3 * t + k] = mesh.triangles[t][k];
+    bvh.indices = indices;
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometryByID(bvh.scene, geometry, 0);
+    rtcReleaseGeometry(geometry);
+    rtcCommitScene(bvh.scene);
+    checkDevice(device, "build a BVH");
+    return bvh;
+}
+
 SurfaceScene::SurfaceScene() : mImpl(std::make_unique<Impl>())
 {
     mImpl->device = rtcNewDevice(nullptr);
@@ -174,7 +175,7 @@ void SurfaceScene::addDynamic(int object, const TriangleMesh& mesh)
 {
     Impl::Dynamic d;
     d.object = object;
-    d.bvh = buildBvh(mImpl->device, mesh, RTC_BUILD_QUALITY_HIGH);
+    d.bvh = Impl::buildBvh(mImpl->device, mesh, RTC_BUILD_QUALITY_HIGH);
     d.instance = rtcNewGeometry(mImpl->device, RTC_GEOMETRY_TYPE_INSTANCE);
     rtcSetGeometryInstancedScene(d.instance, d.bvh.scene);
     rtcAttachGeometryByID(mImpl->top, d.instance, unsigned(mImpl->dynamics.size() + 1));
@@ -211,7 +212,7 @@ void SurfaceScene::commit()
     if (!mImpl->staticBuilt) {
         mImpl->staticBuilt = true;
         if (!mImpl->staticMesh.empty()) {
-            mImpl->staticBvh = buildBvh(mImpl->device, mImpl->staticMesh, RTC_BUILD_QUALITY_HIGH);
+            mImpl->staticBvh = Impl::buildBvh(mImpl->device, mImpl->staticMesh, RTC_BUILD_QUALITY_HIGH);
             mImpl->staticInstance = rtcNewGeometry(mImpl->device, RTC_GEOMETRY_TYPE_INSTANCE);
             rtcSetGeometryInstancedScene(mImpl->staticInstance, mImpl->staticBvh.scene);
             const float identity[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
