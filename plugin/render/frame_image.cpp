@@ -72,6 +72,7 @@ std::vector<Layer> layersOf(const RenderImage& image)
     layers.push_back({{"shadow.X"}, &passes.shadow});
     layers.push_back({{"normal.X", "normal.Y", "normal.Z"}, &passes.normal});
     layers.push_back({{"objectIndex.X"}, &passes.objectIndex});
+    layers.push_back({{"vector.X", "vector.Y", "vector.Z", "vector.W"}, &passes.vector});
     return layers;
 }
 

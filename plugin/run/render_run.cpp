@@ -105,6 +105,9 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
         for (const std::string& line : backend->cannotDraw(settings)) options.warning(line);
 
     const int width = settings.image.width, height = settings.image.height;
+    // Only EXR frames carry the passes, motion vectors among them.
+    const bool screenMotionWanted =
+        settings.image.passes && std::find(options.formats.begin(), options.formats.end(), "exr") != options.formats.end();
     const FirstSurfaceQuery firstSurface = [&surfaces](const Vec3d& origin, const Vec3d& dir, double tMin, double tMax) {
         SurfaceHit hit;
         return surfaces.intersect(origin, dir, tMin, tMax, hit) ? std::optional<double>(hit.distance) : std::nullopt;
@@ -131,8 +134,12 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
     bool prepared = false;
     const int total = last - first + 1;
     for (int f = first; f <= last; ++f) {
-        waitForFrame(f);
-        if (anyDynamic && options.waitForFrame && f > first) tracks = simulation.readTracks();
+        // A shutter that closes after the frame's instant, and motion vectors,
+        // see the next frame's poses: they wait for it too, so that a frame
+        // rendered beside the simulation is the frame rendered after it.
+        const bool seesNextFrame = settings.image.shutterClose > 0.0 || screenMotionWanted;
+        waitForFrame(seesNextFrame && f < setup.lastFrame ? f + 1 : f);
+        if (anyDynamic && options.waitForFrame) tracks = simulation.readTracks();
         // Finished: rendered with these settings, and every output exists and
         // is newer than the frame's simulation (a frame simulated again since,
         // after an edit of the scene, is stale).
@@ -170,6 +177,20 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
             return !followedPath.empty() ? followCamera(settings.camera, followedPath, firstSurface, width, height)
                                          : Camera::fromSettings(settings.camera, width, height);
         };
+        // Where the camera and the dynamic objects stand at frame f + step,
+        // or at f where the tracks do not reach that frame.
+        const auto instantAt = [&](int step) {
+            ScreenMotion::Instant instant{Camera::fromSettings(settings.camera, width, height), {}};
+            for (std::size_t i = 0; i < setup.objects.size(); ++i) {
+                const ObjectSettings& object = setup.objects[i];
+                if (!object.isDynamic) continue;
+                const int at = tracks.holds(object.name, f + step) ? f + step : f;
+                instant.poses[int(i)] = tracks.pose(object.name, at);
+                if (settings.camera.follow && settings.camera.follow->object == object.name)
+                    instant.camera = cameraAt(tracks.path(object.name, at));
+            }
+            return instant;
+        };
         std::vector<Transform> framePath, openPath, closePath;
         for (std::size_t i = 0; i < setup.objects.size(); ++i) {
             const ObjectSettings& object = setup.objects[i];
@@ -195,6 +216,9 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
             motion.emplace(*grids.velocity,
                            std::max(std::abs(shutter.shutterOpen), std::abs(shutter.shutterClose)) * view.secondsPerFrame);
         view.motion = motion ? &*motion : nullptr;
+        std::optional<ScreenMotion> screenMotion;
+        if (screenMotionWanted) screenMotion.emplace(instantAt(-1), ScreenMotion::Instant{view.camera, view.poses}, instantAt(1));
+        view.screenMotion = screenMotion ? &*screenMotion : nullptr;
         view.progress = frameProgress;
         backend->render(view, outputDir);
         stamps[std::to_string(f)] = stamp;

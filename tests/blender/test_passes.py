@@ -14,7 +14,7 @@ import sys
 
 import bpy
 
-PASSES = ("cloud", "surfaces", "shadow", "normal", "objectIndex")
+PASSES = ("cloud", "surfaces", "shadow", "normal", "objectIndex", "vector")
 WIDTH, HEIGHT = 160, 90
 SMALL = ["--set", f"/render/resolution=[{WIDTH},{HEIGHT}]", "--set", "/render/samplesPerPixel=2"]
 TOLERANCE = 1e-4  # the largest difference in any pixel and channel, 32-bit frames

@@ -436,10 +436,91 @@ TEST_CASE("render passes: each pixel names the nearest object, its normal and th
     REQUIRE(exr.read());
     std::vector<std::string> channels = exr.spec().channelnames;
     std::sort(channels.begin(), channels.end());
-    CHECK(channels == std::vector<std::string>{"A", "B", "G", "R", "Z", "cloud.A", "cloud.B", "cloud.G", "cloud.R", "normal.X",
-                                               "normal.Y", "normal.Z", "objectIndex.X", "shadow.X", "surfaces.A", "surfaces.B",
-                                               "surfaces.G", "surfaces.R"});
+    CHECK(channels == std::vector<std::string>{
+                          "A",          "B",          "G",          "R",          "Z",        "cloud.A",       "cloud.B",
+                          "cloud.G",    "cloud.R",    "normal.X",   "normal.Y",   "normal.Z", "objectIndex.X", "shadow.X",
+                          "surfaces.A", "surfaces.B", "surfaces.G", "surfaces.R", "vector.W", "vector.X",      "vector.Y",
+                          "vector.Z"});
     CHECK(exr.spec().get_string_attribute("vfield:objectIndex") == R"({"1":"ground","2":"pillar"})");
+}
+
+TEST_CASE("render passes: motion vectors are what a pixel sees moving on the screen, from the previous frame and to the next",
+          "[render]")
+{
+    // A box crossing the view at 1 unit a frame, 28 units in front of a
+    // camera looking straight at it; the ground stands still.
+    RenderSettings settings;
+    settings.camera.position = Vec3d(0, 3, 30);
+    settings.camera.lookAt = Vec3d(0, 3, 0);
+    settings.image.width = 96;
+    settings.image.height = 54;
+    settings.image.samplesPerPixel = 1; // through each pixel's centre
+    SurfaceScene surfaces;
+    surfaces.addStatic(0, makeBox({{-40, -2, -40}, {40, 0, 40}}), Transform{});
+    surfaces.addDynamic(1, makeBox({{-2, 1, -2}, {2, 5, 2}}));
+    surfaces.setPose(1, Transform{});
+    surfaces.commit();
+    const Camera camera = Camera::fromSettings(settings.camera, settings.image.width, settings.image.height);
+    const auto movedBy = [](double x) {
+        Transform pose;
+        pose.translation = Vec3d(x, 0, 0);
+        return pose;
+    };
+    FrameToRender frame;
+    frame.settings = &settings;
+    frame.surfaces = &surfaces;
+    frame.camera = camera;
+    frame.passes = true;
+    const auto vectorAt = [&](const RenderImage& image, const Vec3d& world) {
+        const Vec2d pixel = *camera.imagePoint(world);
+        const float* v = &image.passes.vector[4 * (std::size_t(pixel[1]) * image.width + std::size_t(pixel[0]))];
+        return Vec4d(v[0], v[1], v[2], v[3]);
+    };
+    const Vec3d boxFront(0, 3, 2), ground(8, 0, 10), sky = camera.position() + camera.direction(2, 2) * 1000.0;
+    // focal length in pixels over the depth: one unit across at depth 28.
+    const double pixelsPerUnit = 27.0 / std::tan(22.5 * M_PI / 180.0) / 28.0;
+
+    SECTION("a moving object, a still camera")
+    {
+        const ScreenMotion motion({camera, {{1, movedBy(-1)}}}, {camera, {{1, movedBy(0)}}}, {camera, {{1, movedBy(1)}}});
+        frame.screenMotion = &motion;
+        for (const IntegratorKind kind : {IntegratorKind::Fast, IntegratorKind::Reference}) {
+            INFO(enumName(kind));
+            settings.integrator.kind = kind;
+            const RenderImage image = renderFrame(frame);
+            const Vec4d box = vectorAt(image, boxFront);
+            CHECK(box[0] == Approx(pixelsPerUnit).epsilon(1e-3));
+            CHECK(box[1] == Approx(0.0).margin(1e-4));
+            CHECK(box[2] == Approx(pixelsPerUnit).epsilon(1e-3));
+            CHECK(box[3] == Approx(0.0).margin(1e-4));
+            CHECK(vectorAt(image, ground) == Vec4d(0.0));
+            CHECK(vectorAt(image, sky) == Vec4d(0.0));
+        }
+    }
+    SECTION("a camera rising and turning: the ground moves down, the sky with the turn alone")
+    {
+        CameraSettings before = settings.camera, after = settings.camera;
+        before.position[1] -= 1;
+        before.lookAt[1] -= 1;
+        after.lookAt = Vec3d(30, 3, 0); // an eighth of a turn to the right
+        const Camera previous = Camera::fromSettings(before, settings.image.width, settings.image.height);
+        const Camera next = Camera::fromSettings(after, settings.image.width, settings.image.height);
+        const ScreenMotion motion({previous, {}}, {camera, {}}, {next, {}});
+        frame.screenMotion = &motion;
+        const RenderImage image = renderFrame(frame);
+        // Risen by a unit, the camera sees the ground one unit's worth lower
+        // (y up: negative), at the depth seen through the pixel.
+        const Vec2d groundPixel = *camera.imagePoint(ground);
+        const Vec3d centre = camera.direction(std::floor(groundPixel[0]) + 0.5, std::floor(groundPixel[1]) + 0.5);
+        const double groundDepth = -camera.position()[1] / centre[1] * centre.dot(camera.forward());
+        CHECK(vectorAt(image, ground)[1] == Approx(-pixelsPerUnit * 28.0 / groundDepth).epsilon(1e-3));
+        CHECK(vectorAt(image, ground)[0] == Approx(0.0).margin(0.05));
+        // The sky does not move with the camera's rise, and moves left as it turns right.
+        const Vec4d skyMotion = vectorAt(image, sky);
+        CHECK(skyMotion[0] == Approx(0.0).margin(1e-6));
+        CHECK(skyMotion[1] == Approx(0.0).margin(1e-6));
+        CHECK(skyMotion[2] < -10.0);
+    }
 }
 
 TEST_CASE("render passes: the beauty is the same with and without them, bit for bit", "[render]")

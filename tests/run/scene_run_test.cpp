@@ -12,7 +12,10 @@
 
 #include <catch2/catch.hpp>
 
+#include <chrono>
+#include <condition_variable>
 #include <filesystem>
+#include <mutex>
 #include <stdexcept>
 
 using namespace vfield;
@@ -27,6 +30,7 @@ Scene smallRunScene(int frames = 8)
     scene.render.image.width = 96;
     scene.render.image.height = 54;
     scene.render.image.samplesPerPixel = 1;
+    scene.render.camera.lookAt = Vec3d(-76.0, 8.0, 0.0); // where it flies in the first frames
     // The paths' lattice costs as much at any image size.
     scene.render.integrator.multipleScattering.method = MultipleScatteringMethod::Octaves;
     return scene;
@@ -39,21 +43,45 @@ TEST_CASE("run: the renderer follows the simulation and writes the images a simu
     const Scene scene = smallRunScene();
     const std::string apart = test::scratchDir("run-apart"), together = test::scratchDir("run-together");
     simulateScene(scene, apart + "/sim");
-    const RenderRunSummary separate = renderScene(scene, apart + "/sim", apart);
-    const SceneRunSummary run = runScene(scene, together, {}, {});
+    // EXR frames too: their motion vectors, like the shutter's close, see the next frame's poses.
+    RenderRunOptions render;
+    render.formats = {"png", "exr"};
+    const RenderRunSummary separate = renderScene(scene, apart + "/sim", apart, render);
+    // After each frame the simulation waits for the renderer to finish the
+    // frame before it, so the renderer is at most a frame behind: a frame
+    // that needs the next one's poses must wait for them.
+    std::mutex mutex;
+    std::condition_variable rendered;
+    int renderedThrough = 0;
+    RenderRunOptions beside = render;
+    beside.progress = [&](int frame, int, int, double) {
+        {
+            const std::lock_guard<std::mutex> lock(mutex);
+            renderedThrough = frame;
+        }
+        rendered.notify_all();
+    };
+    SimulateOptions simulate;
+    simulate.progress = [&](const FrameProgress& progress) {
+        std::unique_lock<std::mutex> lock(mutex);
+        rendered.wait_for(lock, std::chrono::seconds(60), [&] { return renderedThrough >= progress.frame - 1; });
+    };
+    const SceneRunSummary run = runScene(scene, together, simulate, beside);
     CHECK(run.render.rendered == separate.rendered);
     CHECK(run.simulation.frames.size() == 8);
     for (int frame = 1; frame <= 8; ++frame) {
-        const std::string name = frameFileName("frame", frame, "png");
-        INFO(name);
-        CHECK(compareImages(apart + "/" + name, together + "/" + name).maxError == 0.0);
+        for (const char* format : {"png", "exr"}) {
+            const std::string name = frameFileName("frame", frame, format);
+            INFO(name);
+            CHECK(compareImages(apart + "/" + name, together + "/" + name).maxError == 0.0);
+        }
         const SimFolder a(apart + "/sim"), b(together + "/sim");
         CHECK(compareGridFiles(a.densityFile(frame), b.densityFile(frame)).equal());
         CHECK(compareGridFiles(a.particlesFile(frame), b.particlesFile(frame)).equal());
     }
 
     // Run again: both stages find their frames complete.
-    const SceneRunSummary rerun = runScene(scene, together, {}, {});
+    const SceneRunSummary rerun = runScene(scene, together, {}, render);
     CHECK(rerun.render.rendered == 0);
     CHECK(rerun.render.skipped == 8);
 }

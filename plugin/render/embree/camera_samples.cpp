@@ -15,6 +15,7 @@ RenderPasses allocatePasses(int width, int height)
     passes.shadow.assign(pixels, 0.0f);
     passes.normal.assign(3 * pixels, 0.0f);
     passes.objectIndex.assign(pixels, 0.0f);
+    passes.vector.assign(4 * pixels, 0.0f);
     return passes;
 }
 

@@ -44,6 +44,7 @@ void EmbreeBackend::render(const FrameView& view, const std::string& out)
     frame.closingCamera = view.closingCamera;
     frame.motion = view.motion;
     frame.secondsPerFrame = view.secondsPerFrame;
+    frame.screenMotion = view.screenMotion;
     frame.frame = view.frame;
     frame.terrainLow = mTerrainLow;
     frame.terrainHigh = mTerrainHigh;

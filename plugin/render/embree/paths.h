@@ -327,6 +327,7 @@ private:
     {
         seen.depth = float(hit.distance);
         seen.object = hit.object;
+        seen.objectPosition = hit.objectPosition;
         seen.normal = surface.normal;
         const Vec3d offset = shadowRayOrigin(hit);
         // Its own shadow ray: only when the passes are asked for.

@@ -161,6 +161,7 @@ RenderImage renderFast(const FrameToRender& f)
                     sample.behindAlpha = 1.0;
                     sample.depth = float(hit.distance);
                     sample.object = hit.object;
+                    sample.objectPosition = hit.objectPosition;
                     sample.normal = surfaces[lane].normal;
                     sample.shadow = sun.cosine > 0.0 ? 1.0 - sun.throughCloud : 0.0;
                 } else if (!s.image.transparentSky) {

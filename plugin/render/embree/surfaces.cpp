@@ -94,8 +94,8 @@ struct SurfaceScene::Impl {
     {
         const unsigned index = instance == RTC_INVALID_GEOMETRY_ID ? 0 : instance;
         const MeshBvh& bvh = index == 0 ? staticBvh : dynamics[index - 1].bvh;
-        const std::optional<Transform> pose =
-            index == 0 ? std::nullopt : std::optional<Transform>(dynamics[index - 1].poseAt(time));
+        Transform moving;
+        const Transform* pose = index == 0 ? nullptr : &(moving = dynamics[index - 1].poseAt(time));
         const unsigned* corner = bvh.indices + 3 * std::size_t(primitive);
         const double du = u, dv = v;
         Vec3d shading = Vec3d(bvh.normals[corner[0]]) * (1 - du - dv) + Vec3d(bvh.normals[corner[1]]) * du +
@@ -112,6 +112,7 @@ struct SurfaceScene::Impl {
 
         hit.distance = distance;
         hit.position = origin + dir * hit.distance;
+        hit.objectPosition = pose ? pose->objectFromWorld(hit.position) : hit.position;
         hit.normal = shading;
         hit.geometricNormal = geometric;
         hit.object = index == 0 ? staticObjectOf[primitive] : dynamics[index - 1].object;

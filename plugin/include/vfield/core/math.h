@@ -7,6 +7,7 @@
 #include <openvdb/math/Mat4.h>
 #include <openvdb/math/Vec2.h>
 #include <openvdb/math/Vec3.h>
+#include <openvdb/math/Vec4.h>
 
 namespace vfield {
 
@@ -14,6 +15,7 @@ using Vec2d = openvdb::math::Vec2d;
 using Vec3f = openvdb::math::Vec3s;
 using Vec3d = openvdb::math::Vec3d;
 using Vec3ui = openvdb::math::Vec3ui;
+using Vec4d = openvdb::math::Vec4d;
 using BBoxd = openvdb::math::BBox<Vec3d>;
 using Mat4d = openvdb::math::Mat4d;
 

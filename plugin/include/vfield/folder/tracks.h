@@ -30,6 +30,8 @@ public:
     /// The object's entry at frame. Throws FileError (naming the file it was
     /// read from) when the track holds no such entry.
     const TrackEntry& at(const std::string& object, int frame) const;
+    /// Does the track hold the object's entry at frame?
+    bool holds(const std::string& object, int frame) const { return find(object, frame) != nullptr; }
     /// The object's pose at frame; throws as at() does.
     Transform pose(const std::string& object, int frame) const { return at(object, frame).pose; }
     /// The object's poses from the first frame of its track through frame, in

@@ -36,6 +36,9 @@ struct RenderPasses {
     std::vector<float> normal;
     /// The nearest surface's object index + 1 (scene order); 0 where none is seen.
     std::vector<float> objectIndex;
+    /// XYZW: the screen motion of what lies behind the cloud (ScreenMotion),
+    /// averaged over the pixel's samples; 0 when the frame was not given one.
+    std::vector<float> vector;
     /// The scene's objects' names, by index, for the EXR header.
     std::vector<std::string> objectNames;
 

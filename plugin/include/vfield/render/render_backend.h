@@ -15,6 +15,7 @@
 #include <vfield/render/camera.h>
 #include <vfield/render/cloud_lighting.h>
 #include <vfield/render/cloud_motion.h>
+#include <vfield/render/screen_motion.h>
 
 #include <functional>
 #include <map>
@@ -37,6 +38,9 @@ struct FrameView {
     std::optional<Camera> closingCamera; ///< at its close, when the camera moves over it
     const CloudMotion* motion = nullptr; ///< the cloud's motion over it; null: none
     double secondsPerFrame = 1.0 / 24.0; ///< the scene's frames in seconds
+    /// The camera and dynamic objects at the frames before and after, for
+    /// the passes' motion vectors; null: none.
+    const ScreenMotion* screenMotion = nullptr;
     /// Told the fraction of the frame's pixels done, about once a second, one
     /// call at a time (from worker threads); may be unset.
     std::function<void(double fraction)> progress;

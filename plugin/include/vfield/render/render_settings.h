@@ -177,8 +177,8 @@ struct ImageSettings {
                        "numbers and a shot where nothing moves renders identical frames. Embree back-end only"));
         visit(field("passes", self.passes)
                   .doc("EXR frames carry the render passes as layers beside the beauty (R, G, B, A, Z): cloud.RGBA, "
-                       "surfaces.RGBA, shadow.X, normal.XYZ and objectIndex.X, named as Nuke and Blender name "
-                       "multilayer EXR channels (docs/rendering.md). Embree back-end only"));
+                       "surfaces.RGBA, shadow.X, normal.XYZ, objectIndex.X and the motion vectors vector.XYZW, named as Nuke and "
+                       "Blender name multilayer EXR channels (docs/rendering.md). Embree back-end only"));
         visit(field("exrDepth", self.exrDepth)
                   .doc("the precision of EXR frames' colours, alpha and passes: half (16-bit floats, as Nuke and Blender "
                        "write by default) or float (32-bit); depth is always 32-bit"));

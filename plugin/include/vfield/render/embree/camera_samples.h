@@ -36,9 +36,10 @@ struct CameraSample {
     double behindAlpha = 0.0;                             ///< its coverage: 1 unless a transparent sky
     float depth = std::numeric_limits<float>::infinity(); ///< to the first surface
     // The first surface's, for the passes:
-    int object = -1;     ///< its object; -1: none seen
-    Vec3d normal{0.0};   ///< its shading normal
-    double shadow = 0.0; ///< the share of the sun's light on it that the cloud takes
+    int object = -1;           ///< its object; -1: none seen
+    Vec3d objectPosition{0.0}; ///< the point seen, SurfaceHit::objectPosition
+    Vec3d normal{0.0};         ///< its shading normal
+    double shadow = 0.0;       ///< the share of the sun's light on it that the cloud takes
 
     Vec3d radiance() const { return cloud + behind * transmittance; }
     double alpha() const { return 1.0 - (1.0 - behindAlpha) * transmittance; }
@@ -48,7 +49,8 @@ struct CameraSample {
 /// sample order.
 class PassSums {
 public:
-    void add(const CameraSample& seen)
+    /// A sample, and the screen motion of what it sees (ScreenMotion's).
+    void add(const CameraSample& seen, const Vec4d& screenMotion)
     {
         ++mSamples;
         mCloud += seen.cloud;
@@ -60,6 +62,7 @@ public:
         mBehindAlpha += seen.behindAlpha;
         mShadow += seen.shadow;
         mNormal += seen.normal;
+        mVector += screenMotion;
         if (seen.object >= 0 && seen.depth < mNearest) {
             mNearest = seen.depth;
             mObject = seen.object;
@@ -82,12 +85,14 @@ public:
         passes.surfaces[4 * pixel + 3] = float(showsThrough ? mBehindAlphaSeen / mTransmittance : mBehindAlpha / n);
         passes.shadow[pixel] = float(mShadow / n);
         put(passes.normal, 3 * pixel, mNormal / n);
+        for (int c = 0; c < 4; ++c) passes.vector[4 * pixel + c] = float(mVector[c] / n);
         passes.objectIndex[pixel] = float(mObject + 1);
     }
 
 private:
     int mSamples = 0;
     Vec3d mCloud{0.0}, mBehindSeen{0.0}, mBehind{0.0}, mNormal{0.0};
+    Vec4d mVector{0.0};
     double mCloudAlpha = 0.0, mBehindAlphaSeen = 0.0, mTransmittance = 0.0, mBehindAlpha = 0.0, mShadow = 0.0;
     float mNearest = std::numeric_limits<float>::infinity();
     int mObject = -1;
@@ -175,6 +180,10 @@ RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler&
     };
     std::vector<PixelSums> sums(std::size_t(width) * height);
     std::vector<PassSums> passSums(passes ? sums.size() : 0);
+    const auto screenMotion = [&](const CameraSample& seen, const Vec3d& dir) {
+        if (!f.screenMotion) return Vec4d(0.0);
+        return seen.object >= 0 ? f.screenMotion->ofPoint(seen.object, seen.objectPosition) : f.screenMotion->ofSky(dir);
+    };
     const auto finish = [&] {
         tbb::parallel_for(0, height, [&](int y) {
             for (std::size_t pixel = std::size_t(y) * width; pixel < std::size_t(y + 1) * width; ++pixel) {
@@ -232,7 +241,7 @@ RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler&
                         sum.colour += seen[lane].radiance();
                         sum.alpha += seen[lane].alpha();
                         ++sum.samples;
-                        if (passes) passSums[lanePixels[lane]].add(seen[lane]);
+                        if (passes) passSums[lanePixels[lane]].add(seen[lane], screenMotion(seen[lane], packet.dirs[lane]));
                         float& depth = image.depth[lanePixels[lane]];
                         depth = std::min(depth, seen[lane].depth);
                     }

@@ -19,6 +19,7 @@
 #include <vfield/render/embree/surfaces.h>
 #include <vfield/render/frame_image.h>
 #include <vfield/render/materials.h>
+#include <vfield/render/screen_motion.h>
 
 #include <map>
 
@@ -35,6 +36,7 @@ struct FrameToRender {
     /// shutterClose); null: the cloud as the frame holds it.
     const CloudMotion* motion = nullptr;
     double secondsPerFrame = 1.0 / 24.0;           ///< the shutter's frames in seconds, for the cloud's motion
+    const ScreenMotion* screenMotion = nullptr;    ///< for the passes' motion vectors; null: none
     int frame = 0;                                 ///< keys the random numbers
     double terrainLow = 0.0, terrainHigh = 1.0;    ///< heights for the terrain's colours
     bool passes = false;                           ///< render RenderImage::passes too

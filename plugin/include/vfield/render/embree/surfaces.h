@@ -19,6 +19,7 @@ namespace vfield {
 struct SurfaceHit {
     double distance = 0.0; ///< along the (unit) ray
     Vec3d position;        ///< world space
+    Vec3d objectPosition;  ///< in a dynamic object's own space (its pose at the ray's time undone); a static's: world space
     Vec3d normal;          ///< world space, unit, facing the ray
     Vec3d geometricNormal; ///< world space, unit, facing the ray
     int object = -1;       ///< index given to addStatic / addDynamic
