@@ -108,6 +108,10 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
     // Only EXR frames carry the passes, motion vectors among them.
     const bool screenMotionWanted =
         settings.image.passes && std::find(options.formats.begin(), options.formats.end(), "exr") != options.formats.end();
+    // A shutter that closes after the frame's instant, and motion vectors,
+    // see the next frame's poses: they wait for it too, so that a frame
+    // rendered beside the simulation is the frame rendered after it.
+    const bool seesNextFrame = settings.image.shutterClose > 0.0 || screenMotionWanted;
     const FirstSurfaceQuery firstSurface = [&surfaces](const Vec3d& origin, const Vec3d& dir, double tMin, double tMax) {
         SurfaceHit hit;
         return surfaces.intersect(origin, dir, tMin, tMax, hit) ? std::optional<double>(hit.distance) : std::nullopt;
@@ -134,10 +138,6 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
     bool prepared = false;
     const int total = last - first + 1;
     for (int f = first; f <= last; ++f) {
-        // A shutter that closes after the frame's instant, and motion vectors,
-        // see the next frame's poses: they wait for it too, so that a frame
-        // rendered beside the simulation is the frame rendered after it.
-        const bool seesNextFrame = settings.image.shutterClose > 0.0 || screenMotionWanted;
         waitForFrame(seesNextFrame && f < setup.lastFrame ? f + 1 : f);
         if (anyDynamic && options.waitForFrame) tracks = simulation.readTracks();
         // Finished: rendered with these settings, and every output exists and
