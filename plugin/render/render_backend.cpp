@@ -68,6 +68,18 @@ void CompositeBackend::render(const FrameView& frame, const std::string& out)
     for (std::size_t i = 2; i < pngs.size(); ++i) writeSideBySide(sideBySide, pngs[i], sideBySide);
 }
 
+int CompositeBackend::framesAround() const
+{
+    int around = 0;
+    for (const auto& part : mParts) around = std::max(around, part->framesAround());
+    return around;
+}
+
+void CompositeBackend::look(const FrameView& frame)
+{
+    for (const auto& part : mParts) part->look(frame);
+}
+
 std::map<std::string, double> CompositeBackend::secondsByBackend() const
 {
     std::map<std::string, double> seconds;

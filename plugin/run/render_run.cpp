@@ -17,14 +17,26 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <optional>
+#include <set>
+#include <utility>
 
 namespace fs = std::filesystem;
 
 namespace vfield {
 
 namespace {
+
+/// A frame made ready for a back-end: its view and what the view points to.
+struct PreparedFrame {
+    DensityGrids grids;
+    std::optional<CloudLighting> lighting;
+    std::optional<CloudMotion> motion;
+    std::optional<ScreenMotion> screenMotion;
+    FrameView view;
+};
 
 /// What a frame's images depend on besides its simulation: every render
 /// setting and the POV-Ray back-end's own, every surface's material, the
@@ -67,7 +79,8 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
     if (!fs::is_directory(simulationDir)) throw FileError(simulationDir, "no such simulation folder");
     const SimFolder simulation(simulationDir);
     // Every frame rendered must have been made by the folder's simulation.
-    const uint64_t inputsHash = simulation.readStats().inputsHash;
+    const StatsFile stats = simulation.readStats();
+    const uint64_t inputsHash = stats.inputsHash;
 
     // Surfaces once: static meshes into one BVH, dynamic ones as instances.
     // Embree places a following camera and shadows the cloud for every back-end.
@@ -133,42 +146,12 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
         if (!stamps.is_object()) stamps = nlohmann::json::object();
     }
 
-    RenderRunSummary summary;
-    double seconds = 0.0;
-    bool prepared = false;
-    const int total = last - first + 1;
-    for (int f = first; f <= last; ++f) {
-        waitForFrame(seesNextFrame && f < setup.lastFrame ? f + 1 : f);
-        if (anyDynamic && options.waitForFrame) tracks = simulation.readTracks();
-        // Finished: rendered with these settings, and every output exists and
-        // is newer than the frame's simulation (a frame simulated again since,
-        // after an edit of the scene, is stale).
-        const auto writeTime = [](const std::string& path) {
-            std::error_code ec;
-            const fs::file_time_type time = fs::last_write_time(path, ec);
-            return ec ? fs::file_time_type::min() : time;
-        };
-        const fs::file_time_type simulated = writeTime(simulation.densityFile(f));
-        const std::vector<std::string> outputs = backend->frameFiles(outputDir, f);
-        const bool done = stamps.value(std::to_string(f), std::string()) == stamp &&
-                          std::all_of(outputs.begin(), outputs.end(),
-                                      [&](const std::string& p) { return fs::exists(p) && writeTime(p) >= simulated; });
-        if (done && !options.force) {
-            ++summary.skipped;
-            continue;
-        }
-        const auto start = std::chrono::steady_clock::now();
-        const auto frameProgress = [&](double fraction) {
-            if (options.frameProgress) options.frameProgress(f, summary.rendered + summary.skipped, total, fraction);
-        };
-        // A frame the simulation did not make is refused before anything is said or prepared.
-        const DensityGrids grids = simulation.readDensityGrids(f, inputsHash);
-        frameProgress(0.0);
-        if (!prepared) backend->prepare();
-        prepared = true;
-
+    // Makes frame f, its grids read, ready for the back-end: places the
+    // dynamic objects (and a following camera) at its instant and over the
+    // shutter, and lights its cloud.
+    const auto place = [&](int f, PreparedFrame& out) {
         // What moves, at the frame's instant and over the shutter.
-        FrameView view;
+        FrameView& view = out.view;
         view.frame = f;
         view.secondsPerFrame = 1.0 / setup.fps;
         const ImageSettings& shutter = settings.image;
@@ -209,19 +192,106 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
         view.camera = cameraAt(framePath);
         if (shutter.seesMotion()) view.openingCamera = cameraAt(openPath);
         if (!closePath.empty()) view.closingCamera = cameraAt(closePath);
-        const CloudLighting lighting(grids.density, settings.medium, settings.sun.direction, sunBlocked);
-        view.cloud = &lighting;
-        std::optional<CloudMotion> motion;
-        if (shutter.seesMotion() && grids.velocity)
-            motion.emplace(*grids.velocity,
-                           std::max(std::abs(shutter.shutterOpen), std::abs(shutter.shutterClose)) * view.secondsPerFrame);
-        view.motion = motion ? &*motion : nullptr;
-        std::optional<ScreenMotion> screenMotion;
-        if (screenMotionWanted) screenMotion.emplace(instantAt(-1), ScreenMotion::Instant{view.camera, view.poses}, instantAt(1));
-        view.screenMotion = screenMotion ? &*screenMotion : nullptr;
+        // A frame looked at before keeps the cloud lit then, its surfaces as now.
+        if (!out.lighting) out.lighting.emplace(out.grids.density, settings.medium, settings.sun.direction, sunBlocked);
+        view.cloud = &*out.lighting;
+        view.velocity = out.grids.velocity.get();
+        if (shutter.seesMotion() && out.grids.velocity)
+            view.motion =
+                &out.motion.emplace(*out.grids.velocity, std::max(std::abs(shutter.shutterOpen), std::abs(shutter.shutterClose)) *
+                                                             view.secondsPerFrame);
+        if (screenMotionWanted)
+            view.screenMotion =
+                &out.screenMotion.emplace(instantAt(-1), ScreenMotion::Instant{view.camera, view.poses}, instantAt(1));
+    };
+    // The frames whose light frame f's render gathers: framesAround() either
+    // side, shifted to stay within the scene's frames, or within those of a
+    // simulation that stopped short of them (a look at a few frames).
+    const int around = backend->framesAround();
+    int lightFirst = setup.firstFrame, lightLast = setup.lastFrame;
+    if (!options.waitForFrame && !stats.frames.empty()) {
+        const auto [low, high] =
+            std::minmax_element(stats.frames.begin(), stats.frames.end(),
+                                [](const FrameRecord& a, const FrameRecord& b) { return a.frame < b.frame; });
+        lightFirst = std::max(lightFirst, low->frame);
+        lightLast = std::min(lightLast, high->frame);
+    }
+    const auto lightFrames = [&](int f) {
+        const int span = std::min(2 * around, lightLast - lightFirst);
+        const int from = std::clamp(f - around, lightFirst, lightLast - span);
+        return std::pair(from, from + span);
+    };
+    std::set<int> seen; // frames the back-end has rendered or looked at
+    // Frames looked at, kept for their own renders and for as long as the
+    // back-end may hold on to them (RenderBackend::look).
+    std::map<int, std::unique_ptr<PreparedFrame>> looked;
+
+    RenderRunSummary summary;
+    double seconds = 0.0;
+    bool prepared = false;
+    const int total = last - first + 1;
+    for (int f = first; f <= last; ++f) {
+        waitForFrame(seesNextFrame && f < setup.lastFrame ? f + 1 : f);
+        if (anyDynamic && options.waitForFrame) tracks = simulation.readTracks();
+        // Finished: rendered with these settings, and every output exists and
+        // is newer than the frame's simulation (a frame simulated again since,
+        // after an edit of the scene, is stale).
+        const auto writeTime = [](const std::string& path) {
+            std::error_code ec;
+            const fs::file_time_type time = fs::last_write_time(path, ec);
+            return ec ? fs::file_time_type::min() : time;
+        };
+        const fs::file_time_type simulated = writeTime(simulation.densityFile(f));
+        const std::vector<std::string> outputs = backend->frameFiles(outputDir, f);
+        // A frame whose light is gathered over frames records which.
+        const auto [lightFrom, lightTo] = lightFrames(f);
+        const std::string frameStamp =
+            around > 0 ? stamp + " " + std::to_string(lightFrom) + "-" + std::to_string(lightTo) : stamp;
+        const bool done = stamps.value(std::to_string(f), std::string()) == frameStamp &&
+                          std::all_of(outputs.begin(), outputs.end(),
+                                      [&](const std::string& p) { return fs::exists(p) && writeTime(p) >= simulated; });
+        if (done && !options.force) {
+            ++summary.skipped;
+            continue;
+        }
+        const auto start = std::chrono::steady_clock::now();
+        const auto frameProgress = [&](double fraction) {
+            if (options.frameProgress) options.frameProgress(f, summary.rendered + summary.skipped, total, fraction);
+        };
+        looked.erase(looked.begin(), looked.lower_bound(f)); // behind us: rendered, finished or only looked at
+        // A frame the simulation did not make is refused before anything is said or prepared.
+        std::unique_ptr<PreparedFrame> frame;
+        if (const auto ahead = looked.find(f); ahead != looked.end()) {
+            frame = std::move(ahead->second);
+            looked.erase(ahead);
+        } else {
+            frame = std::make_unique<PreparedFrame>();
+            frame->grids = simulation.readDensityGrids(f, inputsHash);
+        }
+        frameProgress(0.0);
+        if (!prepared) backend->prepare();
+        prepared = true;
+        // The frames whose light the render gathers: those the back-end has
+        // not seen are looked at first, each with its own surfaces placed.
+        for (int g = lightFrom; g <= lightTo; ++g) {
+            if (g == f || seen.count(g)) continue;
+            waitForFrame(g);
+            if (anyDynamic && options.waitForFrame) tracks = simulation.readTracks();
+            auto neighbour = std::make_unique<PreparedFrame>();
+            neighbour->grids = simulation.readDensityGrids(g, inputsHash);
+            place(g, *neighbour);
+            backend->look(neighbour->view);
+            seen.insert(g);
+            looked[g] = std::move(neighbour);
+        }
+        place(f, *frame);
+        FrameView& view = frame->view;
+        view.lightFrom = lightFrom;
+        view.lightTo = lightTo;
         view.progress = frameProgress;
         backend->render(view, outputDir);
-        stamps[std::to_string(f)] = stamp;
+        seen.insert(f);
+        stamps[std::to_string(f)] = frameStamp;
         writeTextAtomically(stampsPath, stamps.dump(1) + "\n");
 
         seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -1,11 +1,13 @@
 // Motion blur against time: a frame rendered with its shutter open is the
 // mean of renders at instants spread over the shutter, for a cloud moving by
-// its velocity grid and for a moving object, with either integrator.
+// its velocity grid and for a moving object, with either integrator; and the
+// fast integrator's paths gathered over frames, moved by the cloud's velocity.
 
 #include <vfield/folder/tracks.h>
 #include <vfield/mesh/procedural.h>
 #include <vfield/render/cloud_motion.h>
 #include <vfield/render/embree/renderer.h>
+#include <vfield/render/embree/scattered_light.h>
 
 #include <catch2/catch.hpp>
 
@@ -128,6 +130,26 @@ BlockAgreement compareBlocks(int width, int height, const ImageA& a, const Image
     return agreement;
 }
 
+/// The relative RMS of the differences of two images' 8x8-pixel blocks (their mean RGB).
+template<typename ImageA, typename ImageB>
+double blockError(int width, int height, const ImageA& a, const ImageB& b)
+{
+    double squares = 0.0, reference = 0.0;
+    for (int by = 0; by + 8 <= height; by += 8)
+        for (int bx = 0; bx + 8 <= width; bx += 8) {
+            double blockA = 0.0, blockB = 0.0;
+            for (int y = by; y < by + 8; ++y)
+                for (int x = bx; x < bx + 8; ++x)
+                    for (int c = 0; c < 3; ++c) {
+                        blockA += a[4 * (std::size_t(y) * width + x) + c];
+                        blockB += b[4 * (std::size_t(y) * width + x) + c];
+                    }
+            squares += (blockA - blockB) * (blockA - blockB);
+            reference += blockB * blockB;
+        }
+    return std::sqrt(squares / reference);
+}
+
 /// The blurred frame is the mean of its instants: their means within 2%,
 /// and 90% of the 8x8-pixel blocks within 10%.
 void checkBlurIsTheMeanOfInstants(const RenderImage& blurred, const std::vector<double>& instants)
@@ -242,4 +264,60 @@ TEST_CASE("tracks: a pose between two frames is theirs interpolated, and held be
     CHECK(tracks.pathTo("plane", 1.5).size() == 2);
     CHECK(tracks.pathTo("plane", 1.5).back().translation[0] == Approx(2.0));
     CHECK_THROWS(tracks.poseAt("plane", 5.5));
+}
+
+TEST_CASE("paths over frames: a moving cloud's paths from the frames around, moved by its velocity, light it as its own do",
+          "[render][motion]")
+{
+    // 48 units a second: two units a frame, more than half the ball's radius.
+    const Vec3d speed(48, 0, 0);
+    BlurScene scene(IntegratorKind::Fast, 8);
+    MultipleScatteringSettings& paths = scene.settings.integrator.multipleScattering;
+    paths.method = MultipleScatteringMethod::Paths;
+    paths.pathFramesAround = 1;
+    scene.settings.integrator.maxBounces = 64;
+    // Frames 9, 10 and 11, each traced from its own ball.
+    std::vector<ScatteredPaths> traced;
+    const auto frameOf = [&](int frame, const CloudVolume& volume, const openvdb::Vec3SGrid& velocity) {
+        FrameToRender f = scene.frame;
+        f.frame = frame;
+        f.volume = &volume;
+        f.velocity = &velocity;
+        return f;
+    };
+    for (int frame = 9; frame <= 11; ++frame) {
+        const MovingBall ball(Vec3d(2.0 * (frame - 10), 3, 0), 3.5, 0.25, speed);
+        const CloudLighting lighting(ball.density, scene.settings.medium, scene.settings.sun.direction, {});
+        const CloudVolume volume(lighting, scene.settings.medium, scene.settings.integrator);
+        traced.push_back(traceScatteredPaths(frameOf(frame, volume, *ball.velocity)));
+    }
+    const MovingBall ball(Vec3d(0, 3, 0), 3.5, 0.25, speed);
+    const CloudLighting lighting(ball.density, scene.settings.medium, scene.settings.sun.direction, {});
+    const CloudVolume volume(lighting, scene.settings.medium, scene.settings.integrator);
+    scene.frame = frameOf(10, volume, *ball.velocity);
+    const auto renderFrom = [&](const std::vector<ScatteredPaths>& frames) {
+        scene.frame.scatteredPaths.clear();
+        for (const ScatteredPaths& paths : frames) scene.frame.scatteredPaths.push_back(&paths);
+        return renderFrame(scene.frame);
+    };
+    const RenderImage around = renderFrom(traced);
+    // Frame 10's own light, from as many paths of its own.
+    paths.pathFramesAround = 0;
+    paths.pathsPerFrame *= 3;
+    const RenderImage own = renderFrom({traceScatteredPaths(scene.frame)});
+    const BlockAgreement moved = compareBlocks(own.width, own.height, around.rgba, own.rgba);
+    INFO("over frames " << moved.sumA << ", its own " << moved.sumB << "; " << moved.agreeing << " of " << moved.blocks
+                        << " blocks within 10%");
+    CHECK(moved.sumA == Approx(moved.sumB).epsilon(0.02));
+    CHECK(moved.agreeing >= 0.9 * moved.blocks);
+
+    // Left where they scattered, the other frames' paths light the ball where it was.
+    for (ScatteredPaths& frame : traced)
+        for (ScatteredPaths::Path& path : frame.paths) path.velocity = Vec3d(0.0);
+    paths.pathFramesAround = 1;
+    const RenderImage unmoved = renderFrom(traced);
+    const double movedError = blockError(own.width, own.height, around.rgba, own.rgba);
+    const double unmovedError = blockError(own.width, own.height, unmoved.rgba, own.rgba);
+    INFO("relative RMS of the 8x8 blocks against its own: moved " << movedError << ", unmoved " << unmovedError);
+    CHECK(unmovedError > 2.0 * movedError);
 }

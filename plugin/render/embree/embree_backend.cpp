@@ -31,10 +31,8 @@ std::vector<std::string> EmbreeBackend::frameFiles(const std::string& out, int f
     return files;
 }
 
-void EmbreeBackend::render(const FrameView& view, const std::string& out)
+FrameToRender EmbreeBackend::frameToRender(const FrameView& view, const CloudVolume& volume) const
 {
-    const auto start = std::chrono::steady_clock::now();
-    const CloudVolume volume(*view.cloud, mSettings.medium, mSettings.integrator, view.motion ? view.motion->reach() : 0.0);
     FrameToRender frame;
     frame.settings = &mSettings;
     frame.surfaces = &mSurfaces;
@@ -43,6 +41,7 @@ void EmbreeBackend::render(const FrameView& view, const std::string& out)
     frame.camera = view.openingCamera.value_or(view.camera);
     frame.closingCamera = view.closingCamera;
     frame.motion = view.motion;
+    frame.velocity = view.velocity;
     frame.secondsPerFrame = view.secondsPerFrame;
     frame.screenMotion = view.screenMotion;
     frame.frame = view.frame;
@@ -51,6 +50,43 @@ void EmbreeBackend::render(const FrameView& view, const std::string& out)
     frame.progress = view.progress;
     // Only EXR frames hold them.
     frame.passes = mSettings.image.passes && std::find(mFormats.begin(), mFormats.end(), "exr") != mFormats.end();
+    return frame;
+}
+
+int EmbreeBackend::framesAround() const
+{
+    const IntegratorSettings& integrator = mSettings.integrator;
+    const bool paths =
+        integrator.kind == IntegratorKind::Fast && integrator.multipleScattering.method == MultipleScatteringMethod::Paths;
+    return paths ? integrator.multipleScattering.pathFramesAround : 0;
+}
+
+void EmbreeBackend::look(const FrameView& view)
+{
+    auto volume = std::make_unique<CloudVolume>(*view.cloud, mSettings.medium, mSettings.integrator);
+    const FrameToRender frame = frameToRender(view, *volume);
+    mPaths[view.frame] = frame.volume ? traceScatteredPaths(frame) : ScatteredPaths{view.frame, {}};
+    mLookedVolumes[view.frame] = std::move(volume);
+}
+
+void EmbreeBackend::render(const FrameView& view, const std::string& out)
+{
+    const auto start = std::chrono::steady_clock::now();
+    // The cloud as a look at the frame made it, unless its motion reaches further.
+    std::unique_ptr<CloudVolume> volume;
+    if (const auto looked = mLookedVolumes.find(view.frame); looked != mLookedVolumes.end() && !view.motion)
+        volume = std::move(looked->second);
+    mLookedVolumes.erase(mLookedVolumes.begin(), mLookedVolumes.upper_bound(view.frame));
+    if (!volume)
+        volume = std::make_unique<CloudVolume>(*view.cloud, mSettings.medium, mSettings.integrator,
+                                               view.motion ? view.motion->reach() : 0.0);
+    FrameToRender frame = frameToRender(view, *volume);
+    if (framesAround() > 0 && frame.volume) {
+        mPaths.erase(mPaths.begin(), mPaths.lower_bound(view.lightFrom));
+        if (mPaths.count(view.frame) == 0) mPaths[view.frame] = traceScatteredPaths(frame);
+        for (const auto& [at, paths] : mPaths)
+            if (at <= view.lightTo) frame.scatteredPaths.push_back(&paths);
+    }
     RenderImage image = renderFrame(frame);
     image.passes.objectNames = mObjectNames;
     for (const std::string& path : frameFiles(out, view.frame)) writeFrameImage(image, path, mView, mSettings.image.exrDepth);

@@ -103,10 +103,19 @@ Vec3d groundRadianceBelow(const FrameToRender& f)
     return sum / double(kRays * kRays);
 }
 
+/// The fast integrator's lattice of paths: from the paths the frame was
+/// given (its own and its neighbours'), or else from its own, traced here.
+ScatteredLightGrid scatteredLightOf(const FrameToRender& f)
+{
+    if (!f.scatteredPaths.empty()) return gatherScatteredLight(f, f.scatteredPaths);
+    const ScatteredPaths own = traceScatteredPaths(f);
+    return gatherScatteredLight(f, {&own});
+}
+
 /// IntegratorKind::Fast: surfaces lit directly by the sun and the sky; the
 /// cloud ray-marched in front of them (CloudVolume), its light scattered
 /// more than once by octaves or from the frame's lattice of paths
-/// (traceScatteredLight). A surface's noise is drawn once per pixel (at its
+/// (scatteredLightOf). A surface's noise is drawn once per pixel (at its
 /// first sample on that surface, in each of adaptive sampling's passes); its
 /// geometry, light and shadows at every sample. Camera rays, and then their shadow rays, are traced a packet at
 /// a time.
@@ -117,7 +126,7 @@ RenderImage renderFast(const FrameToRender& f)
     const Vec3d skyAmbient = cloudAmbientRadiance(s.sky, groundRadianceBelow(f));
     const bool tracedLight =
         f.volume && !f.volume->empty() && s.integrator.multipleScattering.method == MultipleScatteringMethod::Paths;
-    const ScatteredLightGrid scattered = tracedLight ? traceScatteredLight(f) : ScatteredLightGrid();
+    const ScatteredLightGrid scattered = tracedLight ? scatteredLightOf(f) : ScatteredLightGrid();
     constexpr int kLanes = SamplePacket::kSize;
     constexpr double kFar = std::numeric_limits<double>::max();
 

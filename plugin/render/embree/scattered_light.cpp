@@ -2,29 +2,37 @@
 
 #include "paths.h"
 
+#include <vfield/core/trilinear_sampler.h>
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <array>
+#include <optional>
 #include <vector>
 
 namespace vfield {
 
-ScatteredLightGrid traceScatteredLight(const FrameToRender& f)
+namespace {
+
+/// Which of the 2n + 1 streams of paths a frame draws from (n: pathFramesAround).
+int pathStream(const FrameToRender& f, int frame)
 {
-    // Three colour channels a point, 192 MiB.
-    constexpr std::size_t kMaxLatticePoints = std::size_t(1) << 24;
+    const int streams = 2 * f.settings->integrator.multipleScattering.pathFramesAround + 1;
+    return (frame % streams + streams) % streams;
+}
+
+} // namespace
+
+ScatteredPaths traceScatteredPaths(const FrameToRender& f)
+{
     const CloudLighting& lighting = f.volume->lighting();
     const MultipleScatteringSettings& settings = f.settings->integrator.multipleScattering;
     const BBoxd& box = lighting.bounds();
-    const Vec3d extent = box.extents();
-    double spacing = settings.pathSpacing * lighting.density().voxelSize()[0];
-    while (latticeSize(latticePoints(extent, spacing)) > kMaxLatticePoints) spacing *= 1.25; // coarser, within budget
-    const std::array<int, 3> points = latticePoints(extent, spacing);
-    ScatteredLightGrid grid;
-    for (DenseGrid& channel : grid.rgb) channel = DenseGrid(box.min(), spacing, points, 0.0f, 0.0f);
-    const DenseGrid& lattice = grid.rgb[0];
-    if (f.settings->integrator.maxBounces <= 1) return grid; // single scattering only: nothing more to add
+    ScatteredPaths traced;
+    traced.frame = f.frame;
+    if (f.settings->integrator.maxBounces <= 1) return traced; // single scattering only: nothing more to add
 
     // The reference's own camera paths, on a jittered grid over the part of
     // the image where the cloud's box is: each goes to its first scattering
@@ -36,17 +44,17 @@ ScatteredLightGrid traceScatteredLight(const FrameToRender& f)
     // rays are cast, and at most pathsPerFrame of those that scatter, evenly
     // spread over them, go on. Their number does not depend on the image's
     // resolution: a preview's lattice is the final frame's.
-    constexpr int kRaysPerPath = 4; // 80 bytes a ray: 320 MB at most (pathsPerFrame <= 1e6)
+    constexpr int kRaysPerPath = 4; // 56 bytes a ray: 224 MB at most (pathsPerFrame <= 1e6)
     const ImageRegion region = f.camera.regionOf(box);
-    if (region.empty()) return grid;
+    if (region.empty()) return traced;
     const std::size_t paths = std::size_t(settings.pathsPerFrame);
     const double rays = double(kRaysPerPath) * double(paths), aspect = region.width() / region.height();
     const int columns = std::max(1, int(std::lround(std::sqrt(rays * aspect))));
     const int rows = std::max(1, int(std::lround(rays / double(columns))));
-    struct Gathered {
-        Vec3d direction, position, light;
+    struct FirstScattering {
+        Vec3d direction, position;
     };
-    std::vector<std::optional<Gathered>> cast(std::size_t(columns) * std::size_t(rows));
+    std::vector<std::optional<FirstScattering>> cast(std::size_t(columns) * std::size_t(rows));
     // The grid's cells that some of the density's leaves or tiles (with the
     // voxel around them that trilinear reads reach) cover on the image: a
     // ray through any other cell meets no cloud and is not cast. Most rays
@@ -76,8 +84,12 @@ ScatteredLightGrid traceScatteredLight(const FrameToRender& f)
     // The frame's instant: under motion blur, the march reads the lattice
     // where the motion brought each sample from.
     const Medium medium(f.volume, f.settings->medium, nullptr);
-    // Streams apart from the camera's (seed, pixel, sample) ones.
-    const uint32_t stream = f.settings->image.noiseStream(f.frame) ^ 0x9e3779b9u;
+    // Streams apart from the camera's (seed, pixel, sample) ones, and one for
+    // each of any 2n + 1 frames in a row whose paths a lattice gathers
+    // (pathFramesAround n): a cloud that holds still gathers the same paths
+    // in every frame.
+    const uint32_t stream =
+        (f.settings->image.noiseStream(f.frame) ^ 0x9e3779b9u) + uint32_t(pathStream(f, f.frame)) * 0x85ebca6bu;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cast.size(), 256), [&](const tbb::blocked_range<std::size_t>& r) {
         Medium::Density density = medium.density();
         for (std::size_t n = r.begin(); n != r.end(); ++n) {
@@ -89,7 +101,7 @@ ScatteredLightGrid traceScatteredLight(const FrameToRender& f)
             // A surface is looked for only before a collision, as the reference's paths do (nextEvent).
             const std::optional<double> scatter = medium.collision(density, nullptr, origin, dir, 0.0, kInfinity, random);
             if (scatter && !f.surfaces->occluded(origin, dir, 0.0, *scatter))
-                cast[n] = Gathered{dir, origin + dir * *scatter, Vec3d(0.0)};
+                cast[n] = FirstScattering{dir, origin + dir * *scatter};
         }
     });
     std::vector<std::size_t> scattered;
@@ -97,16 +109,45 @@ ScatteredLightGrid traceScatteredLight(const FrameToRender& f)
         if (cast[n]) scattered.push_back(n);
     std::vector<std::size_t> going(std::min(paths, scattered.size())); // every (scattered / paths)-th, in the grid's order
     for (std::size_t k = 0; k < going.size(); ++k) going[k] = scattered[k * scattered.size() / going.size()];
-    std::vector<Gathered> gathered(going.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, gathered.size(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
+    // The velocity grid covers the density's voxels only: read as it is, a
+    // path at the cloud's edge, where most first scatter, would find the
+    // velocity halved by the empty voxels beside it. CloudMotion extends it
+    // as far as the paths are moved: 2n frames, at the scene's ends.
+    std::optional<CloudMotion> velocity;
+    if (f.velocity && settings.pathFramesAround > 0)
+        velocity.emplace(*f.velocity, 2.0 * settings.pathFramesAround * f.secondsPerFrame);
+    traced.paths.resize(going.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, going.size(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
         PathTracer tracer(f, medium, PathTracer::SunThroughCloud::AsTheMarch);
+        std::optional<TrilinearSampler<openvdb::Vec3STree>> velocityAt;
+        if (velocity) velocityAt.emplace(velocity->velocity().tree());
         for (std::size_t k = r.begin(); k != r.end(); ++k) {
-            Gathered& path = gathered[k] = *cast[going[k]];
+            const FirstScattering& cameraRay = *cast[going[k]];
+            ScatteredPaths::Path& path = traced.paths[k];
+            path.position = cameraRay.position;
+            if (velocityAt)
+                path.velocity = Vec3d(velocityAt->atIndex(velocity->velocity().transform().worldToIndex(path.position)));
             SampleRandom random(stream, uint32_t(going[k]), 1u);
-            path.light = tracer.radiance(path.position, tracer.scatteredDirection(path.direction, random),
+            path.light = tracer.radiance(path.position, tracer.scatteredDirection(cameraRay.direction, random),
                                          PathTracer::Start::Scattered, random);
         }
     });
+    return traced;
+}
+
+ScatteredLightGrid gatherScatteredLight(const FrameToRender& f, const std::vector<const ScatteredPaths*>& traced)
+{
+    // Three colour channels a point, 192 MiB.
+    constexpr std::size_t kMaxLatticePoints = std::size_t(1) << 24;
+    const CloudLighting& lighting = f.volume->lighting();
+    const BBoxd& box = lighting.bounds();
+    const Vec3d extent = box.extents();
+    double spacing = f.settings->integrator.multipleScattering.pathSpacing * lighting.density().voxelSize()[0];
+    while (latticeSize(latticePoints(extent, spacing)) > kMaxLatticePoints) spacing *= 1.25; // coarser, within budget
+    const std::array<int, 3> points = latticePoints(extent, spacing);
+    ScatteredLightGrid grid;
+    for (DenseGrid& channel : grid.rgb) channel = DenseGrid(box.min(), spacing, points, 0.0f, 0.0f);
+    const DenseGrid& lattice = grid.rgb[0];
 
     // Each lattice point takes the mean of the paths' light weighted as a
     // trilinear read there would weigh it. The march reads the lattice where
@@ -114,15 +155,26 @@ ScatteredLightGrid traceScatteredLight(const FrameToRender& f)
     // weigh the cloud as delta tracking does), so over the image its reads
     // come to the paths' mean however coarse the lattice. Points that traced
     // their own paths, interpolated, come out dark on a coarse lattice, the
-    // light's rise inside the lit surface cut across. Summed
-    // in the paths' order: the same lattice for any thread count. The sums
-    // go into the grid, then become means.
+    // light's rise inside the lit surface cut across. Another frame's path
+    // is moved to where the cloud carries its point by this frame's instant,
+    // and left out when that falls outside this frame's box. The sums go into
+    // the grid, then become means.
     std::vector<float> weights(lattice.size(), 0.0f);
-    for (const Gathered& path : gathered)
-        lattice.forCorners(path.position, [&](std::size_t n, double weight) {
-            weights[n] += float(weight);
-            for (int c = 0; c < 3; ++c) grid.rgb[c][n] += float(weight * path.light[c]);
-        });
+    std::vector<const ScatteredPaths*> byStream = traced;
+    std::stable_sort(byStream.begin(), byStream.end(), [&](const ScatteredPaths* a, const ScatteredPaths* b) {
+        return pathStream(f, a->frame) < pathStream(f, b->frame);
+    });
+    for (const ScatteredPaths* frame : byStream) {
+        const double seconds = double(f.frame - frame->frame) * f.secondsPerFrame;
+        for (const ScatteredPaths::Path& path : frame->paths) {
+            const Vec3d position = path.position + path.velocity * seconds;
+            if (!box.isInside(position)) continue;
+            lattice.forCorners(position, [&](std::size_t n, double weight) {
+                weights[n] += float(weight);
+                for (int c = 0; c < 3; ++c) grid.rgb[c][n] += float(weight * path.light[c]);
+            });
+        }
+    }
     // A point no path came near takes its neighbours' mean: where the cloud
     // is thin few paths scatter, and a point left at zero darkened the reads
     // beside it. Such points are written and only the others read.

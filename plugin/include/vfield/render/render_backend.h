@@ -34,9 +34,13 @@ struct FrameView {
     // What a back-end that draws motion blur sees over the shutter
     // (ImageSettings::shutterOpen, shutterClose); the dynamic objects' poses
     // over it are the SurfaceScene's.
-    std::optional<Camera> openingCamera; ///< at the shutter's open; unset: `camera`
-    std::optional<Camera> closingCamera; ///< at its close, when the camera moves over it
-    const CloudMotion* motion = nullptr; ///< the cloud's motion over it; null: none
+    std::optional<Camera> openingCamera;          ///< at the shutter's open; unset: `camera`
+    std::optional<Camera> closingCamera;          ///< at its close, when the camera moves over it
+    const CloudMotion* motion = nullptr;          ///< the cloud's motion over it; null: none
+    const openvdb::Vec3SGrid* velocity = nullptr; ///< the cloud's velocity; null: none
+    /// The frames whose light this frame's render gathers (framesAround()),
+    /// its own among them; the back-end has seen each, rendered or looked at.
+    int lightFrom = 0, lightTo = 0;
     double secondsPerFrame = 1.0 / 24.0; ///< the scene's frames in seconds
     /// The camera and dynamic objects at the frames before and after, for
     /// the passes' motion vectors; null: none.
@@ -64,6 +68,16 @@ public:
     virtual void prepare() = 0;
     /// Renders the frame into frameFiles(out, frame.frame), each written atomically.
     virtual void render(const FrameView& frame, const std::string& out) = 0;
+    /// How many frames either side of a frame its render reads besides its
+    /// own (FrameView::lightFrom, lightTo): 0 unless the back-end gathers
+    /// light over frames.
+    virtual int framesAround() const { return 0; }
+    /// Takes from a frame it does not render (yet) what the renders of the
+    /// frames around it read, with the frame's surfaces placed: called once
+    /// for each such frame, in order, before the renders that read it. The
+    /// view's cloud lives until the frame's own render, or the render of a
+    /// later frame.
+    virtual void look(const FrameView&) {}
     /// Wall-clock seconds spent in render() so far, by back-end name (a
     /// composite reports each of its own).
     virtual std::map<std::string, double> secondsByBackend() const { return {{name(), mSeconds}}; }
@@ -83,6 +97,8 @@ public:
     std::vector<std::string> frameFiles(const std::string& out, int frame) const override;
     void prepare() override;
     void render(const FrameView& frame, const std::string& out) override;
+    int framesAround() const override;
+    void look(const FrameView& frame) override;
     std::map<std::string, double> secondsByBackend() const override;
 
 private:

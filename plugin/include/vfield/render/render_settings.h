@@ -275,6 +275,7 @@ struct MultipleScatteringSettings {
     double skyScatteringFalloff = 0.5; ///< its own a: that light is diffuse already
     double pathSpacing = 6.0;
     int pathsPerFrame = 50000;
+    int pathFramesAround = 0;
 
     void validate() const;
 
@@ -305,6 +306,13 @@ struct MultipleScatteringSettings {
                   .doc("paths: the reference's camera paths whose light, from where they first scatter in the cloud, the "
                        "lattice gathers (at most; fewer where the cloud covers less than a quarter of its box's part of "
                        "the image); the same at any resolution, and what a frame's time grows with"));
+        visit(field("pathFramesAround", self.pathFramesAround)
+                  .range(0, 8)
+                  .unit("frames")
+                  .doc("paths: a frame's lattice also gathers the paths of this many frames either side of it (fewer "
+                       "towards the scene's first or last frame, more on the other side), each traced once and moved to "
+                       "the frame's instant by the cloud's velocity: 2n + 1 frames' paths for one frame's time, so less "
+                       "noise and less flicker from frame to frame, the light blurred over that time"));
     }
 };
 

@@ -6,11 +6,14 @@
 /// reference). Writes OUT/frame.####.png and/or .exr (frame_image.h).
 
 #include <vfield/render/display_view.h>
+#include <vfield/render/embree/renderer.h>
+#include <vfield/render/embree/scattered_light.h>
 #include <vfield/render/embree/surfaces.h>
 #include <vfield/render/materials.h>
 #include <vfield/render/render_backend.h>
 
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -32,8 +35,15 @@ public:
     std::vector<std::string> frameFiles(const std::string& out, int frame) const override;
     void prepare() override {}
     void render(const FrameView& frame, const std::string& out) override;
+    /// The fast integrator's paths gathered over frames: MultipleScatteringSettings::pathFramesAround.
+    int framesAround() const override;
+    /// Traces the frame's paths for the lattices of the frames around it.
+    void look(const FrameView& frame) override;
 
 private:
+    /// The frame as the renderer takes it, its cloud `volume`.
+    FrameToRender frameToRender(const FrameView& view, const CloudVolume& volume) const;
+
     const RenderSettings& mSettings;
     const SurfaceScene& mSurfaces;
     std::map<int, SurfaceMaterial> mMaterials;
@@ -41,6 +51,10 @@ private:
     std::vector<std::string> mFormats;
     std::vector<std::string> mObjectNames;
     DisplayView mView;
+    /// The paths of the frames looked at or rendered that later frames still read, by frame.
+    std::map<int, ScatteredPaths> mPaths;
+    /// The clouds of the frames looked at, for their own renders (RenderBackend::look's views live until then).
+    std::map<int, std::unique_ptr<CloudVolume>> mLookedVolumes;
 };
 
 /// The version of the Embree library loaded ("3.13.5"), as a device of its

@@ -22,8 +22,11 @@
 #include <vfield/render/screen_motion.h>
 
 #include <map>
+#include <vector>
 
 namespace vfield {
+
+struct ScatteredPaths;
 
 struct FrameToRender {
     const RenderSettings* settings = nullptr; ///< image size and samples, sun, sky, medium
@@ -35,7 +38,14 @@ struct FrameToRender {
     /// The cloud's motion over the shutter (ImageSettings::shutterOpen and
     /// shutterClose); null: the cloud as the frame holds it.
     const CloudMotion* motion = nullptr;
-    double secondsPerFrame = 1.0 / 24.0;           ///< the shutter's frames in seconds, for the cloud's motion
+    /// The cloud's velocity (world units a second), for its light gathered
+    /// over frames (MultipleScatteringSettings::pathFramesAround); may be null.
+    const openvdb::Vec3SGrid* velocity = nullptr;
+    /// The paths the fast integrator's lattice gathers (traceScatteredPaths),
+    /// the frame's own and those of the frames around it; empty: it traces
+    /// the frame's own.
+    std::vector<const ScatteredPaths*> scatteredPaths;
+    double secondsPerFrame = 1.0 / 24.0;           ///< a frame in seconds, for the cloud's motion
     const ScreenMotion* screenMotion = nullptr;    ///< for the passes' motion vectors; null: none
     int frame = 0;                                 ///< keys the random numbers
     double terrainLow = 0.0, terrainHigh = 1.0;    ///< heights for the terrain's colours
