@@ -2,8 +2,6 @@
 
 #include "paths.h"
 
-#include <vfield/core/trilinear_sampler.h>
-
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -119,14 +117,13 @@ ScatteredPaths traceScatteredPaths(const FrameToRender& f)
     traced.paths.resize(going.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, going.size(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
         PathTracer tracer(f, medium, PathTracer::SunThroughCloud::AsTheMarch);
-        std::optional<TrilinearSampler<openvdb::Vec3STree>> velocityAt;
-        if (velocity) velocityAt.emplace(velocity->velocity().tree());
+        std::optional<CloudMotion::Instant> velocityAt;
+        if (velocity) velocityAt.emplace(*velocity, 0.0);
         for (std::size_t k = r.begin(); k != r.end(); ++k) {
             const FirstScattering& cameraRay = *cast[going[k]];
             ScatteredPaths::Path& path = traced.paths[k];
             path.position = cameraRay.position;
-            if (velocityAt)
-                path.velocity = Vec3d(velocityAt->atIndex(velocity->velocity().transform().worldToIndex(path.position)));
+            if (velocityAt) path.velocity = velocityAt->velocity(path.position);
             SampleRandom random(stream, uint32_t(going[k]), 1u);
             path.light = tracer.radiance(path.position, tracer.scatteredDirection(cameraRay.direction, random),
                                          PathTracer::Start::Scattered, random);

@@ -37,9 +37,10 @@ public:
         Vec3d source(const Vec3d& p)
         {
             if (mSeconds == 0.0) return p;
-            const openvdb::Vec3s v = mVelocity.atIndex(mTransform->worldToIndex(p));
-            return p - Vec3d(v) * mSeconds;
+            return p - velocity(p) * mSeconds;
         }
+        /// The cloud's velocity at p (world units a second), read trilinearly.
+        Vec3d velocity(const Vec3d& p) { return Vec3d(mVelocity.atIndex(mTransform->worldToIndex(p))); }
 
     private:
         TrilinearSampler<openvdb::Vec3STree> mVelocity;
