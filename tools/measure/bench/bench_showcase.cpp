@@ -9,20 +9,6 @@
 
 namespace vfield::bench {
 
-CloudAtFrame100& cloudAtFrame100(int64_t particles)
-{
-    static std::map<int64_t, CloudAtFrame100> cache;
-    CloudAtFrame100& cloud = cache[particles];
-    if (!cloud.simulator) {
-        Scene scene = loadScene(VFIELD_SCENES_DIR "/cloud_over_terrain.json");
-        scene.simulation.clouds[0].count = particles;
-        cloud.simulator = std::make_unique<Simulator>(scene.simulation);
-        while (cloud.simulator->frame() < 100) cloud.simulator->advanceFrame();
-        cloud.state = cloud.simulator->serializeState();
-    }
-    return cloud;
-}
-
 ShowcaseFrame::ShowcaseFrame() : scene(loadScene(VFIELD_SCENES_DIR "/cloud_over_terrain.json"))
 {
     if (scene.render.image.samplesPerPixel != kShowcaseSamplesPerPixel)
@@ -111,6 +97,7 @@ MainJobFrame& mainJobAtFrame120(int64_t particles)
         job.scene.simulation.clouds[0].count = particles;
         job.simulator = std::make_unique<Simulator>(job.scene.simulation);
         while (job.simulator->frame() < 120) job.simulator->advanceFrame();
+        job.state = job.simulator->serializeState();
         if (terrain.staticBounds().empty()) {
             TriangleMesh mesh = job.simulator->objects()[0].mesh;
             mesh.transform(job.scene.simulation.objects[0].transform.matrix());

@@ -1,7 +1,7 @@
 #pragma once
-// The cloud showcase at frame 100 (the cloud over the valley, near the
-// terrain), shared by the benchmarks: the simulator there, and the renderer's
-// surfaces, density and camera.
+// The showcases the benchmarks share: the cloud showcase at frame 100 (the
+// cloud over the valley, near the terrain: its surfaces, density and camera)
+// and the main job at frame 120 (its simulator there, at any particle count).
 
 #include "showcase_samples.h"
 
@@ -16,14 +16,6 @@
 #include <string>
 
 namespace vfield::bench {
-
-struct CloudAtFrame100 {
-    std::unique_ptr<Simulator> simulator;
-    std::string state; ///< the state at frame 100, to reset to
-};
-
-/// The showcase with `particles` particles, advanced to frame 100; built once per count.
-CloudAtFrame100& cloudAtFrame100(int64_t particles);
 
 /// The showcase's surfaces and its frame-100 density (50,000 particles).
 struct ShowcaseFrame {
@@ -51,6 +43,7 @@ ShowcaseFrame& showcase();
 struct MainJobFrame {
     Scene scene;
     std::unique_ptr<Simulator> simulator;
+    std::string state;                      ///< the simulator's state at frame 120, to reset to
     const SurfaceScene* surfaces = nullptr; ///< the terrain, world space
     /// The scene's render settings at another image size and sample count.
     RenderSettings settings(int width, int height, int spp) const;

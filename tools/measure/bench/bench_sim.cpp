@@ -1,6 +1,6 @@
-// Benchmarks of the simulation stage: one frame of the cloud showcase (all
-// fields applied, adaptive substeps), the density splat, and the main job's
-// volume stage against OpenVDB's own rasterizer.
+// Benchmarks of the simulation stage on the main job at frame 120: a frame of
+// its advection, its density splat and its volume stage, the last two
+// against OpenVDB's own rasterizer on the same particles.
 
 #include "bench_showcase.h"
 
@@ -25,28 +25,29 @@ using namespace vfield::bench;
 
 namespace {
 
+/// A frame of the main job's advection (swirls, fields, contacts and
+/// adaptive substeps) from frame 120.
 void BM_CloudFrame(benchmark::State& state)
 {
     const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, std::size_t(state.range(1)));
-    CloudAtFrame100& cloud = cloudAtFrame100(state.range(0));
+    MainJobFrame& job = mainJobAtFrame120(state.range(0));
     uint64_t substeps = 0;
     for (auto _ : state) {
         state.PauseTiming();
-        // Every iteration steps the same frame, 101, as a run does: after
-        // frame 100, whose substeps leave caches a restored state lacks.
-        cloud.simulator->restoreState(cloud.state);
-        cloud.simulator->advanceFrame();
+        // Every iteration steps the same frame, 122, as a run does: after
+        // frame 121, whose substeps leave caches a restored state lacks.
+        job.simulator->restoreState(job.state);
+        job.simulator->advanceFrame();
         state.ResumeTiming();
-        cloud.simulator->advanceFrame();
-        substeps += cloud.simulator->lastStep().substeps;
+        job.simulator->advanceFrame();
+        substeps += job.simulator->lastStep().substeps;
     }
+    job.simulator->restoreState(job.state);
     state.counters["particle_steps_per_s"] = benchmark::Counter(double(substeps), benchmark::Counter::kIsRate);
-    state.counters["particles"] = double(cloud.simulator->particles().size());
+    state.counters["particles"] = double(job.simulator->particles().size());
 }
 BENCHMARK(BM_CloudFrame)
     ->ArgNames({"particles", "threads"})
-    ->Args({50'000, 1})
-    ->Args({50'000, 2})
     ->Args({125'000, 2})
     ->Args({250'000, 2})
     ->Args({500'000, 2})
@@ -55,24 +56,19 @@ BENCHMARK(BM_CloudFrame)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+/// The splat alone (the deposit, its blur and the density and velocity
+/// grids; no detail, no cutoff) of the main job's particles at frame 120.
 void BM_DensitySplat(benchmark::State& state)
 {
-    CloudAtFrame100& cloud = cloudAtFrame100(state.range(0));
-    cloud.simulator->restoreState(cloud.state);
-    const Simulator& simulator = *cloud.simulator;
-    const Scene scene = loadScene(VFIELD_SCENES_DIR "/cloud_over_terrain.json");
-    for (auto _ : state) benchmark::DoNotOptimize(splatParticles(simulator.particles(), scene.volume));
-    state.SetItemsProcessed(state.iterations() * int64_t(simulator.particles().size()));
+    MainJobFrame& job = mainJobAtFrame120(state.range(0));
+    VolumeSettings volume = job.scene.volume;
+    volume.detail.voxelSize = 0.0;
+    volume.cutoff = 0.0;
+    const ParticleSet& particles = job.simulator->particles();
+    for (auto _ : state) benchmark::DoNotOptimize(splatParticles(particles, volume));
+    state.SetItemsProcessed(state.iterations() * int64_t(particles.size()));
 }
-BENCHMARK(BM_DensitySplat)
-    ->ArgName("particles")
-    ->Arg(50'000)
-    ->Arg(125'000)
-    ->Arg(250'000)
-    ->Arg(500'000)
-    ->Arg(1'000'000)
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+BENCHMARK(BM_DensitySplat)->Apply(mainJobCounts)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 /// The detail stage alone (SplatSeconds::detail) on the lone cumulus
 /// (scenes/features/cumulus.json) at frame 2, in each style: its splat's
@@ -117,6 +113,11 @@ void BM_VolumeStage(benchmark::State& state)
     StageSeconds stages;
     for (auto _ : state) writeFrameVolume(folder, 120, particles, frame.scene.volume, 0, stages);
     state.counters["particles"] = double(particles.size());
+    // Where the stage's time goes, seconds an iteration.
+    const double iterations = double(state.iterations());
+    state.counters["splat_s"] = stages.splat / iterations;
+    state.counters["detail_s"] = stages.detail / iterations;
+    state.counters["write_s"] = stages.write / iterations;
 }
 BENCHMARK(BM_VolumeStage)->Apply(mainJobCounts)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -132,18 +133,19 @@ void BM_Clearance(benchmark::State& state)
 }
 BENCHMARK(BM_Clearance)->Apply(mainJobCounts)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-/// OpenVDB's own splat of the same particles into the grid the frame
-/// writes (its voxel, the detail's, with arg 1; the splat's with arg 0):
-/// points::FrustumRasterizer on a linear transform, each particle a sphere
-/// as wide as the splat's kernel, its uniform density accumulated.
+/// OpenVDB's own splat of the main job's particles at frame 120 into the
+/// grid the frame writes (its voxel, the detail's, with detailVoxel 1; the
+/// splat's with 0): points::FrustumRasterizer on a linear transform, each
+/// particle a sphere as wide as the splat's kernel, its uniform density
+/// accumulated.
 void BM_RawOpenVdbSplat(benchmark::State& state)
 {
-    MainJobFrame& frame = mainJobAtFrame120(kMainJobParticles);
+    MainJobFrame& frame = mainJobAtFrame120(state.range(0));
     const VolumeSettings volume = frame.scene.volume.resolved(frame.scene.simulation.clouds[0].particleRadius);
     const ParticleSet& particles = frame.simulator->particles();
     openvdb::points::PointDataGrid::Ptr points =
         openvdb::gridPtrCast<openvdb::points::PointDataGrid>(makeParticleGrid(particles, ParticlePrecision::Full));
-    const double voxel = state.range(0) == 1 && volume.detail.enabled() ? volume.detail.voxelSize : volume.voxelSize;
+    const double voxel = state.range(1) == 1 && volume.detail.enabled() ? volume.detail.voxelSize : volume.voxelSize;
     openvdb::points::FrustumRasterizerSettings settings(*openvdb::math::Transform::createLinearTransform(voxel));
     settings.useRadius = true; // pscale, the particle's radius
     settings.radiusScale = float(volume.kernelRadius / frame.scene.simulation.clouds[0].particleRadius);
@@ -151,9 +153,14 @@ void BM_RawOpenVdbSplat(benchmark::State& state)
     openvdb::points::PointDataGrid::ConstPtr input = points;
     rasterizer.addPoints(input);
     for (auto _ : state) benchmark::DoNotOptimize(rasterizer.rasterizeUniformDensity(openvdb::points::RasterMode::ACCUMULATE));
-    state.counters["particles"] = double(particles.size());
+    state.SetItemsProcessed(state.iterations() * int64_t(particles.size()));
     state.counters["voxel"] = voxel;
 }
-BENCHMARK(BM_RawOpenVdbSplat)->ArgName("detailVoxel")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_RawOpenVdbSplat)
+    ->ArgNames({"particles", "detailVoxel"})
+    ->Args({1'000'000, 0})
+    ->Args({1'000'000, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 } // namespace
