@@ -258,7 +258,6 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
         const auto frameProgress = [&](double fraction) {
             if (options.frameProgress) options.frameProgress(f, summary.rendered + summary.skipped, total, fraction);
         };
-        looked.erase(looked.begin(), looked.lower_bound(f)); // behind us: rendered, finished or only looked at
         // A frame the simulation did not make is refused before anything is said or prepared.
         std::unique_ptr<PreparedFrame> frame;
         if (const auto ahead = looked.find(f); ahead != looked.end()) {
@@ -291,6 +290,9 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
         view.progress = frameProgress;
         backend->render(view, outputDir);
         seen.insert(f);
+        // Behind us (rendered, finished or only looked at): released after
+        // the render, where the back-end lets go of what it kept of them.
+        looked.erase(looked.begin(), looked.lower_bound(f));
         stamps[std::to_string(f)] = frameStamp;
         writeTextAtomically(stampsPath, stamps.dump(1) + "\n");
 
