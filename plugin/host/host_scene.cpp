@@ -32,17 +32,18 @@ std::string meshFileName(std::size_t index, const std::string& name)
     return std::to_string(index) + "-" + safe + ".obj";
 }
 
-nlohmann::json cameraPose(int frame, const Camera& camera)
+nlohmann::json cameraPose(int frame, const Camera& camera, double fovDegrees)
 {
     return {{"frame", frame},
             {"position", vec3ToJson(camera.position())},
             {"lookAt", vec3ToJson(camera.position() + camera.forward())},
-            {"up", vec3ToJson(camera.up())}};
+            {"up", vec3ToJson(camera.up())},
+            {"fovDegrees", fovDegrees}};
 }
 
-/// One pose for a fixed camera; one per frame for a camera that follows an
-/// object, placed as the renderer places it (in front of any surface between
-/// it and the object).
+/// One pose for a fixed camera; one per frame for a camera that moves by
+/// itself (keys, a path) or follows an object, placed as the renderer places
+/// it (in front of any surface between it and the object).
 nlohmann::json cameraPoses(const Scene& scene, const std::vector<TriangleMesh>& meshes, const SimFolder& simulation, int first,
                            int last)
 {
@@ -50,7 +51,10 @@ nlohmann::json cameraPoses(const Scene& scene, const std::vector<TriangleMesh>& 
     const int width = settings.image.width, height = settings.image.height;
     nlohmann::json poses = nlohmann::json::array();
     if (!settings.camera.follow) {
-        poses.push_back(cameraPose(first, Camera::fromSettings(settings.camera, width, height)));
+        for (int f = first; f <= (settings.camera.moves() ? last : first); ++f) {
+            const CameraSettings camera = settings.camera.at(f);
+            poses.push_back(cameraPose(f, Camera::fromSettings(camera, width, height), camera.fovDegrees));
+        }
         return poses;
     }
     SurfaceScene surfaces;
@@ -74,9 +78,20 @@ nlohmann::json cameraPoses(const Scene& scene, const std::vector<TriangleMesh>& 
             if (objects[i].isDynamic) surfaces.setPose(int(i), tracks.pose(objects[i].name, f));
         surfaces.commit();
         const std::vector<Transform> path = tracks.path(objects[std::size_t(followed)].name, f);
-        poses.push_back(cameraPose(f, followCamera(settings.camera, path, firstSurface, width, height)));
+        const CameraSettings camera = settings.camera.at(f);
+        poses.push_back(cameraPose(f, followCamera(camera, path, firstSurface, width, height), camera.fovDegrees));
     }
     return poses;
+}
+
+/// The sun at frame f: its direction (a unit vector), colour and intensity.
+nlohmann::json sunAt(const RenderSettings& settings, int f)
+{
+    const SunSettings sun = atFrame(settings.sun, f);
+    return {{"frame", f},
+            {"direction", vec3ToJson(sun.direction.unitSafe())},
+            {"color", vec3ToJson(sun.color)},
+            {"intensity", sun.intensity}};
 }
 
 } // namespace
@@ -121,8 +136,11 @@ void writeHostScene(const Scene& scene, const SimFolder& simulation)
                              {"velocityGrid", "vel"},
                              {"velocityUnit", "world units per second"}};
     volume.update(fieldsToJson(r.medium));
-    nlohmann::json sun = fieldsToJson(r.sun);
-    sun["direction"] = vec3ToJson(r.sun.direction.unitSafe());
+    nlohmann::json sun = sunAt(r, first);
+    if (!r.sun.animation.empty()) {
+        sun["frames"] = nlohmann::json::array();
+        for (int f = first; f <= last; ++f) sun["frames"].push_back(sunAt(r, f));
+    }
     const nlohmann::json host = {{"format", "vfield host scene"},
                                  {"version", 1},
                                  {"convention", "y up, right-handed, world units; paths relative to this file"},
@@ -134,7 +152,7 @@ void writeHostScene(const Scene& scene, const SimFolder& simulation)
                                  {"objects", objects},
                                  {"camera", camera},
                                  {"sun", sun},
-                                 {"sky", fieldsToJson(r.sky)}};
+                                 {"sky", fieldsToJson(atFrame(r.sky, first))}};
     writeTextAtomically((dir / "host.json").string(), host.dump(1) + "\n");
 }
 

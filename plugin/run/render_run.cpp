@@ -31,6 +31,7 @@ namespace {
 
 /// A frame made ready for a back-end: its view and what the view points to.
 struct PreparedFrame {
+    RenderSettings settings; ///< at the frame's instant
     DensityGrids grids;
     std::optional<CloudLighting> lighting;
     std::optional<CloudMotion> motion;
@@ -154,23 +155,27 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
         FrameView& view = out.view;
         view.frame = f;
         view.secondsPerFrame = 1.0 / setup.fps;
+        out.settings = settings.at(f);
+        view.settings = &out.settings;
         const ImageSettings& shutter = settings.image;
         const double open = f + shutter.shutterOpen, close = f + shutter.shutterClose;
-        const auto cameraAt = [&](const std::vector<Transform>& followedPath) {
-            return !followedPath.empty() ? followCamera(settings.camera, followedPath, firstSurface, width, height)
-                                         : Camera::fromSettings(settings.camera, width, height);
+        // The camera at an instant (its keys and path there), or following the path flown to it.
+        const auto cameraAt = [&](double instant, const std::vector<Transform>& followedPath) {
+            const CameraSettings camera = settings.camera.at(instant);
+            return !followedPath.empty() ? followCamera(camera, followedPath, firstSurface, width, height)
+                                         : Camera::fromSettings(camera, width, height);
         };
         // Where the camera and the dynamic objects stand at frame f + step,
         // or at f where the tracks do not reach that frame.
         const auto instantAt = [&](int step) {
-            ScreenMotion::Instant instant{Camera::fromSettings(settings.camera, width, height), {}};
+            ScreenMotion::Instant instant{cameraAt(f + step, {}), {}};
             for (std::size_t i = 0; i < setup.objects.size(); ++i) {
                 const ObjectSettings& object = setup.objects[i];
                 if (!object.isDynamic) continue;
                 const int at = tracks.holds(object.name, f + step) ? f + step : f;
                 instant.poses[int(i)] = tracks.pose(object.name, at);
                 if (settings.camera.follow && settings.camera.follow->object == object.name)
-                    instant.camera = cameraAt(tracks.path(object.name, at));
+                    instant.camera = cameraAt(at, tracks.path(object.name, at));
             }
             return instant;
         };
@@ -189,11 +194,12 @@ RenderRunSummary renderScene(const Scene& scene, const std::string& simulationDi
             }
         }
         surfaces.commit();
-        view.camera = cameraAt(framePath);
-        if (shutter.seesMotion()) view.openingCamera = cameraAt(openPath);
-        if (!closePath.empty()) view.closingCamera = cameraAt(closePath);
+        view.camera = cameraAt(f, framePath);
+        if (shutter.seesMotion()) view.openingCamera = cameraAt(open, openPath);
+        if (!closePath.empty() || (shutter.motionBlur() && settings.camera.moves()))
+            view.closingCamera = cameraAt(close, closePath);
         // A frame looked at before keeps the cloud lit then, its surfaces as now.
-        if (!out.lighting) out.lighting.emplace(out.grids.density, settings.medium, settings.sun.direction, sunBlocked);
+        if (!out.lighting) out.lighting.emplace(out.grids.density, settings.medium, out.settings.sun.direction, sunBlocked);
         view.cloud = &*out.lighting;
         view.velocity = out.grids.velocity.get();
         if (shutter.seesMotion() && out.grids.velocity)

@@ -49,7 +49,7 @@ double readChangeBound(const Vec3d& move) { return std::abs(move.x()) + std::abs
 Vec3d Simulator::fieldAcceleration(const AccelerationFields& fields, const Vec3d& p, double t) const
 {
     Vec3d a = fields.leadingSum;
-    for (const std::size_t f : fields.rest) a += mSetup.fields[f].accelerationAt(p);
+    for (const std::size_t f : fields.rest) a += mSetup.fields[f].accelerationAt(p, mSetup.frameAt(t));
     for (const std::size_t f : fields.turbulence) a += mTurbulence[f].acceleration(p, t);
     return a;
 }

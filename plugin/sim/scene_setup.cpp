@@ -9,13 +9,15 @@
 
 namespace vfield {
 
-Vec3d UniformFieldSettings::accelerationAt(const Vec3d& p) const
+Vec3d UniformFieldSettings::accelerationAt(const Vec3d& p, double frame) const
 {
+    const Vec3d acceleration = valueAtFrame(animation, "acceleration", this->acceleration, frame);
     if (!box) return acceleration;
+    const BBoxd region = valueAtFrame(animation, "box", *box, frame);
     // Distance from the box (0 inside); the field fades linearly over softEdge.
     double outsideSqr = 0.0;
     for (int axis = 0; axis < 3; ++axis) {
-        const double d = std::max({box->min()[axis] - p[axis], 0.0, p[axis] - box->max()[axis]});
+        const double d = std::max({region.min()[axis] - p[axis], 0.0, p[axis] - region.max()[axis]});
         outsideSqr += d * d;
     }
     if (outsideSqr == 0.0) return acceleration;

@@ -115,8 +115,8 @@ Simulator::Simulator(const SimulationSettings& setup, const Preparing& preparing
     mObjectFields.resize(mObjects.size());
     mCloudFields.resize(mSetup.clouds.size());
     const auto add = [this](AccelerationFields& fields, std::size_t f) {
-        // Summed now while every field so far acts everywhere: the sum a substep would make, in the same order.
-        if (fields.rest.empty() && !mSetup.fields[f].box) fields.leadingSum += mSetup.fields[f].acceleration;
+        // Summed now while every field so far acts everywhere and always alike: the sum a substep would make, in the same order.
+        if (fields.rest.empty() && mSetup.fields[f].isUniformAndConstant()) fields.leadingSum += mSetup.fields[f].acceleration;
         else fields.rest.push_back(f);
     };
     for (std::size_t f = 0; f < mSetup.fields.size(); ++f) {
@@ -128,7 +128,7 @@ Simulator::Simulator(const SimulationSettings& setup, const Preparing& preparing
     }
     for (std::size_t f = 0; f < mSetup.turbulence.size(); ++f) {
         const TurbulenceSettings& turbulence = mSetup.turbulence[f];
-        mTurbulence.emplace_back(turbulence);
+        mTurbulence.emplace_back(turbulence, mSetup.firstFrame, mSetup.fps);
         for (std::size_t i = 0; i < mObjects.size(); ++i)
             if (turbulence.acts(mSetup.objects[i].name)) mObjectFields[i].turbulence.push_back(f);
         for (std::size_t c = 0; c < mSetup.clouds.size(); ++c)

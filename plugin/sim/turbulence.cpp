@@ -23,12 +23,14 @@ bool TurbulenceSettings::acts(const std::string& target) const
 
 void TurbulenceSettings::validate() const { checkFields(*this); }
 
-Turbulence::Turbulence(const TurbulenceSettings& spec) : mSpec(spec), mNoise(spec.seed)
+Turbulence::Turbulence(const TurbulenceSettings& spec, int firstFrame, double fps)
+    : mSpec(spec), mNoise(spec.seed), mFirstFrame(firstFrame), mFps(fps)
 {
     // Octaves of independent noise add their mean squares.
     double meanSquare = 0.0, amplitude = 1.0;
     for (int octave = 0; octave < spec.octaves; ++octave, amplitude *= spec.roughness) meanSquare += amplitude * amplitude;
-    mScale = spec.strength / (kSwirlRms * std::sqrt(meanSquare));
+    mOctavesRms = kSwirlRms * std::sqrt(meanSquare);
+    mScale = spec.strength / mOctavesRms;
 }
 
 Vec3d Turbulence::acceleration(const Vec3d& p, double t) const
@@ -41,9 +43,15 @@ Vec3d Turbulence::acceleration(const Vec3d& p, double t) const
     // zeros do not line up); all of them four at a time. Two noises a swirl
     // instead of the three of the curl of three potentials: a third less work.
     static constexpr float kSecondOffset[3] = {101.7f, 53.3f, 27.9f};
+    double scale = mScale, size = mSpec.size;
+    if (!mSpec.animation.empty()) {
+        const double frame = mFirstFrame + t * mFps;
+        scale = valueAtFrame(mSpec.animation, "strength", mSpec.strength, frame) / mOctavesRms;
+        size = valueAtFrame(mSpec.animation, "size", size, frame);
+    }
     const int samples = 2 * mSpec.octaves;
     std::array<Vec3f, 2 * TurbulenceSettings::kMaxOctaves> points;
-    double frequency = 1.0 / mSpec.size;
+    double frequency = 1.0 / size;
     const double slide = mSpec.evolution * t;
     for (int octave = 0; octave < mSpec.octaves; ++octave, frequency *= 2.0) {
         const float shift = 17.31f * float(octave);
@@ -63,7 +71,7 @@ Vec3d Turbulence::acceleration(const Vec3d& p, double t) const
     double amplitude = 1.0;
     for (int octave = 0; octave < mSpec.octaves; ++octave, amplitude *= mSpec.roughness)
         swirl += Vec3d(gradients[2 * octave]).cross(Vec3d(gradients[2 * octave + 1])) * amplitude;
-    return swirl * mScale;
+    return swirl * scale;
 }
 
 } // namespace vfield

@@ -1,6 +1,7 @@
 """The Blender add-on, headless: installed from its zip, it simulates a small
 cloud-and-airplane scene with vfield, imports it (frame range, grids,
-material, keyframes against tracks.json), imports again without duplicates,
+material, keyframes against tracks.json, the keyed camera and sun), imports
+again without duplicates,
 a Cycles render of a frame shows the cloud and the airplane where vfield's
 own render of that frame does, and a running simulation can be cancelled.
 
@@ -18,13 +19,18 @@ import time
 
 import addon_utils
 import bpy
-from mathutils import Matrix
+from mathutils import Matrix, Vector
 
 FRAMES = (1, 40)
 RESOLUTION = (192, 108)
 CHECKED_FRAME = 18  # the airplane just before the cloud
 MIN_IOU = 0.9
 MIN_AIRPLANE_IOU = 0.8  # a smaller shape: its edge pixels weigh more
+# Keyed camera and sun; at the checked frame the camera stands where the silhouettes are framed.
+CAMERA_KEYS = [[1, [-10, 7, 46]], [CHECKED_FRAME, [-4, 5, 42]], [40, [0, 5, 40]]]
+FOV_KEYS = [[1, 55], [CHECKED_FRAME, 50], [40, 45]]
+SUN_INTENSITY_KEYS = [[1, 4.0], [40, 1.5]]
+SUN_DIRECTION_KEYS = [[1, [0.6, 0.8, 0.0]], [40, [0.0, 0.6, 0.8]]]
 
 
 def arguments():
@@ -49,7 +55,10 @@ def small_scene(source, work):
     cloud["count"] = 20000
     cloud["radii"] = [r / 2 for r in cloud["radii"]]
     scene["objects"][0]["transform"]["translate"] = [-45, 0, 0]
-    scene["camera"] = {"position": [-4, 5, 42], "lookAt": [-6, 0, 0], "fovDegrees": 50}
+    scene["camera"] = {"position": {"keys": CAMERA_KEYS, "interpolation": "smooth"}, "lookAt": [-6, 0, 0],
+                       "fovDegrees": {"keys": FOV_KEYS}}
+    scene.setdefault("sun", {})["intensity"] = {"keys": SUN_INTENSITY_KEYS}
+    scene["sun"]["direction"] = {"keys": SUN_DIRECTION_KEYS}
     scene["frames"]["start"], scene["frames"]["end"] = FRAMES
     scene["render"]["resolution"] = list(RESOLUTION)
     path = os.path.join(work, "cloud_and_airplane.json")
@@ -95,6 +104,34 @@ def check_import(sim, tracks_path, extinction):
         assert error < 1e-4, f"frame {frame}: the airplane is off its track by {error}"
         assert all(abs(x - y) < 1e-6 for r, s in zip(root.matrix_world, Matrix.Rotation(math.pi / 2, 4, "X")) for x, y in zip(r, s))
     print(f"import: frames {FRAMES}, grids {grids}, the airplane on its track at 3 frames")
+
+
+def check_keys(sim):
+    """The keyed camera and sun come in as Blender keyframes: at the keys they
+    hold the keys' values, between them vfield's value at each frame."""
+    scene = bpy.context.scene
+    with open(os.path.join(sim, "host", "host.json"), encoding="utf-8") as f:
+        host = json.load(f)
+    poses = {p["frame"]: p for p in host["camera"]["poses"]}
+    suns = {s["frame"]: s for s in host["sun"]["frames"]}
+    assert sorted(poses) == list(range(FRAMES[0], FRAMES[1] + 1)), sorted(poses)
+    up = Matrix.Rotation(math.pi / 2, 4, "X")  # vfield's y up is Blender's z up
+    camera, sun = bpy.data.objects["cloud_and_airplane camera"], bpy.data.objects["cloud_and_airplane sun"]
+    keyed = dict(CAMERA_KEYS)
+    for frame in (1, 7, CHECKED_FRAME, 29, 40):
+        scene.frame_set(frame)
+        position = keyed.get(frame, poses[frame]["position"])
+        error = (camera.matrix_world.translation - up @ Vector(position)).length
+        assert error < 1e-4, f"frame {frame}: the camera is {error} off {position}"
+        fov = dict(FOV_KEYS).get(frame, poses[frame]["fovDegrees"])
+        assert math.isclose(math.degrees(camera.data.angle_y), fov, rel_tol=1e-4), (frame, math.degrees(camera.data.angle_y))
+        # The light shines down its -z.
+        toward = (sun.matrix_world.to_3x3() @ Vector((0, 0, 1))).normalized()
+        assert (toward - up.to_3x3() @ Vector(suns[frame]["direction"])).length < 1e-4, (frame, toward)
+        brightest = max(suns[frame]["color"])
+        assert math.isclose(sun.data.energy, suns[frame]["intensity"] * brightest, rel_tol=1e-5), (frame, sun.data.energy)
+    assert math.isclose(suns[1]["intensity"], 4.0) and math.isclose(suns[40]["intensity"], 1.5), suns
+    print(f"keys: camera and sun keyframed at {len(poses)} frames, on their keys at frames 1, {CHECKED_FRAME} and 40")
 
 
 def masks(path):
@@ -178,6 +215,7 @@ def main():
     with open(scene_path, encoding="utf-8") as f:
         extinction = json.load(f)["render"].get("extinction", 1.0)
     check_import(sim, os.path.join(sim, "tracks.json"), extinction)
+    check_keys(sim)
 
     before = vfield_objects(sim)
     assert bpy.ops.import_scene.vfield_simulation(directory=sim) == {"FINISHED"}

@@ -17,8 +17,8 @@ namespace fs = std::filesystem;
 namespace {
 
 /// A painted block on the ground and a box coasting past it, a puff of cloud
-/// above; the camera fixed or following the box.
-Scene blockAndBox(const std::string& camera)
+/// above; the camera fixed, keyed or following the box; more keys after it.
+Scene blockAndBox(const std::string& camera, const std::string& moreKeys = "")
 {
     return parseScene(R"({"version": 1, "frames": {"start": 3, "end": 14, "fps": 24},
       "objects": [{"name": "block / ground", "mesh": {"box": {}}, "color": [0.2, 0.4, 0.6], "repulsion": false,
@@ -26,6 +26,7 @@ Scene blockAndBox(const std::string& camera)
                   {"name": "box", "mesh": {"box": {}}, "motion": "dynamic", "repulsion": false, "velocity": [10, 0, 0]}],
       "clouds": [{"name": "puff", "count": 300, "center": [0, 10, 0], "radius": 3}],
       "camera": )" + camera +
+                          moreKeys +
                           R"(,
       "render": {"resolution": [64, 36], "extinction": 0.7, "albedo": 0.8},
       "simulation": {"domain": {"min": [-100, -100, -100], "max": [100, 100, 100]}}})",
@@ -94,6 +95,29 @@ TEST_CASE("host scene: a following camera gets a pose per frame, looking at the 
         const Vec3d looking = (vec(pose["lookAt"]) - position).unitSafe();
         CHECK(looking.dot((box - position).unitSafe()) == Approx(1.0).epsilon(1e-9));
         CHECK((box - position).length() == Approx(std::sqrt(20.0 * 20.0 + 5.0 * 5.0)).epsilon(1e-6));
+    }
+}
+
+TEST_CASE("host scene: a keyed camera and sun get their values at every frame", "[scene][host][keys]")
+{
+    const Scene scene = blockAndBox(R"({"position": {"keys": [[3, [0, 5, 60]], [14, [22, 5, 60]]]}, "lookAt": [0, 0, 0],
+                                        "fovDegrees": {"keys": [[3, 40], [14, 62]]}})",
+                                    R"(, "sun": {"intensity": {"keys": [[3, 1], [14, 12]]}})");
+    const SimFolder sim(test::scratchDir("host-keys"));
+    simulateScene(scene, sim.path());
+    writeHostScene(scene, sim);
+    const nlohmann::json host = readHost(sim);
+    const nlohmann::json& poses = host["camera"]["poses"];
+    const nlohmann::json& suns = host["sun"]["frames"];
+    REQUIRE(poses.size() == 12);
+    REQUIRE(suns.size() == 12);
+    for (int i = 0; i < 12; ++i) {
+        const nlohmann::json& pose = poses[std::size_t(i)];
+        CHECK(pose["frame"] == 3 + i);
+        CHECK((vec(pose["position"]) - Vec3d(2.0 * i, 5, 60)).length() < 1e-9);
+        CHECK(pose["fovDegrees"].get<double>() == Approx(40.0 + 2.0 * i));
+        CHECK(suns[std::size_t(i)]["frame"] == 3 + i);
+        CHECK(suns[std::size_t(i)]["intensity"].get<double>() == Approx(1.0 + i));
     }
 }
 

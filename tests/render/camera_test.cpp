@@ -1,7 +1,9 @@
 #include <vfield/render/camera.h>
+#include <vfield/render/camera_path.h>
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 using namespace vfield;
@@ -105,4 +107,56 @@ TEST_CASE("camera: a box's image region holds the image of every point of the bo
     // Reaching behind the camera, a box may appear anywhere: the whole image.
     const ImageRegion around = camera.regionOf(BBoxd(Vec3d(-1, 4, 30), Vec3d(1, 6, 50)));
     CHECK((around.x0 == 0.0 && around.y0 == 0.0 && around.x1 == 320.0 && around.y1 == 180.0));
+}
+
+TEST_CASE("camera: a path camera travels through its points at constant speed, looking along its path", "[camera]")
+{
+    CameraSettings settings;
+    CameraPathSettings path;
+    // Uneven legs and a sharp-ish turn: the speed must not follow the points' spacing.
+    path.points = {Vec3d(0, 10, 0), Vec3d(40, 12, 0), Vec3d(50, 15, 30), Vec3d(20, 10, 60), Vec3d(25, 8, 62)};
+    path.start = 10.0;
+    path.end = 110.0;
+    path.lookAlong = true;
+    settings.path = path;
+    settings.validate();
+
+    CHECK(settings.at(0.0).position == path.points.front());
+    CHECK(settings.at(10.0).position == path.points.front());
+    CHECK((settings.at(110.0).position - path.points.back()).length() < 1e-9);
+    CHECK(settings.at(500.0).position == settings.at(110.0).position);
+
+    std::vector<double> steps;
+    Vec3d previous = settings.at(10.0).position;
+    for (int k = 1; k <= 1000; ++k) {
+        const double frame = 10.0 + 0.1 * k;
+        const CameraSettings camera = settings.at(frame);
+        steps.push_back((camera.position - previous).length());
+        // It looks the way it travels.
+        const Vec3d travel = (settings.at(frame + 1e-3).position - settings.at(frame - 1e-3).position).unit();
+        if (k < 1000) CHECK((camera.lookAt - camera.position).unit().dot(travel) > 0.9999);
+        previous = camera.position;
+    }
+    const auto [slowest, fastest] = std::minmax_element(steps.begin(), steps.end());
+    CHECK(*fastest / *slowest < 1.005);
+
+    // Through every point.
+    const CameraPath travelled(path.points);
+    for (const Vec3d& point : path.points) {
+        double nearest = 1e30;
+        for (int k = 0; k <= 200000; ++k)
+            nearest = std::min(nearest, (travelled.point(travelled.length() * k / 200000.0) - point).length());
+        CHECK(nearest < 1e-3);
+    }
+}
+
+TEST_CASE("camera: a path camera without lookAlong looks at its keyed lookAt", "[camera]")
+{
+    CameraSettings settings;
+    settings.path = CameraPathSettings{{Vec3d(0, 10, 0), Vec3d(40, 10, 0)}, 1.0, 41.0, false};
+    settings.lookAt = Vec3d(20, 0, 30);
+    CHECK(settings.at(21.0).lookAt == Vec3d(20, 0, 30));
+    CHECK((settings.at(21.0).position - Vec3d(20, 10, 0)).length() < 1e-6);
+    settings.follow = CameraFollowSettings{"airplane", Vec3d(-30, 10, 0)};
+    CHECK_THROWS_WITH(settings.validate(), Catch::Contains("a camera follows an object or travels a path, not both"));
 }

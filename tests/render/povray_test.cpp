@@ -114,6 +114,7 @@ CloudInBoth renderCloudInBoth(const openvdb::FloatGrid::Ptr& density, RenderSett
     const CloudLighting lighting(density, settings.medium, settings.sun.direction, {});
     FrameView view;
     view.frame = 1;
+    view.settings = &settings;
     view.camera = Camera::fromSettings(settings.camera, settings.image.width, settings.image.height);
     view.cloud = &lighting;
     EmbreeBackend embree(settings, nothing, {}, 0.0, 1.0, {"png"}, {});

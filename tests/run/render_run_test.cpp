@@ -95,3 +95,32 @@ TEST_CASE("render: light gathered over frames comes from the frames simulated, a
     renderScene(scene, dir + "/sim", dir + "/whole", {});
     for (int frame : {1, 2}) CHECK(maxError(dir + "/whole", dir + "/frames", frame) == 0.0);
 }
+
+TEST_CASE("render: a frame of a keyed camera, sun and sky is the frame their values there render", "[run][render][keys]")
+{
+    Scene keyed = bankWithPathsAround(3);
+    keyed.render.integrator.multipleScattering.pathFramesAround = 0;
+    const Vec3d from = keyed.render.camera.position;
+    keyed.render.camera.animation.set("position",
+                                      KeyTrack({1.0, 3.0}, {from[0], from[1], from[2], from[0] - 30.0, from[1] + 10.0, from[2]},
+                                               3, Interpolation::Smooth, false));
+    keyed.render.sun.animation.set("direction",
+                                   KeyTrack({1.0, 3.0}, {0.3, 0.8, 0.5, -0.5, 0.6, 0.6}, 3, Interpolation::Linear, true));
+    keyed.render.sky.animation.set("intensity", KeyTrack({1.0, 3.0}, {1.0, 0.4}, 1, Interpolation::Linear, false));
+    const std::string dir = test::scratchDir("render-keys");
+    simulateScene(keyed, dir + "/sim");
+    RenderRunOptions second;
+    second.firstFrame = second.lastFrame = 2;
+    renderScene(keyed, dir + "/sim", dir + "/keyed", second);
+
+    Scene constant = keyed;
+    constant.render = keyed.render.at(2.0);
+    CHECK(constant.render.camera.position != from);
+    renderScene(constant, dir + "/sim", dir + "/constant", second);
+    CHECK(maxError(dir + "/keyed", dir + "/constant", 2) == 0.0);
+    // The keys do change the frame.
+    Scene first = keyed;
+    first.render = keyed.render.at(1.0);
+    renderScene(first, dir + "/sim", dir + "/first", second);
+    CHECK(maxError(dir + "/keyed", dir + "/first", 2) > 0.0);
+}

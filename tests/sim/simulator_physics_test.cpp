@@ -208,9 +208,9 @@ TEST_CASE("simulator: a uniform field acts only inside its box and fades across 
     field.acceleration = Vec3d(0, 0, 4);
     field.box = BBoxd(Vec3d(0.0), Vec3d(10.0));
     field.softEdge = 2.0;
-    CHECK(field.accelerationAt({5, 5, 5}) == Vec3d(0, 0, 4));
-    CHECK(field.accelerationAt({11, 5, 5}) == Vec3d(0, 0, 2));   // halfway across the edge
-    CHECK(field.accelerationAt({12.5, 5, 5}) == Vec3d(0, 0, 0)); // beyond it
+    CHECK(field.accelerationAt({5, 5, 5}, 1.0) == Vec3d(0, 0, 4));
+    CHECK(field.accelerationAt({11, 5, 5}, 1.0) == Vec3d(0, 0, 2));   // halfway across the edge
+    CHECK(field.accelerationAt({12.5, 5, 5}, 1.0) == Vec3d(0, 0, 0)); // beyond it
 
     // A particle outside a hard-edged box stays at rest.
     Simulator sim(
@@ -218,6 +218,19 @@ TEST_CASE("simulator: a uniform field acts only inside its box and fades across 
             .simulation);
     runFrames(sim, 24);
     CHECK(onlyParticle(sim).length() < 1e-8);
+}
+
+TEST_CASE("simulator: a keyed field's acceleration is read at each substep's own time", "[sim]")
+{
+    // a(t) = 24 t along x (keys at frames 1 and 241 of 240 fps, linear): after
+    // one second the velocity is 12 and the particle has moved 4, exactly as
+    // the integral says, not as frames of constant acceleration would have it.
+    Simulator sim(
+        test::singleParticleScene(R"([{"acceleration": {"keys": [[1, [0, 0, 0]], [241, [24, 0, 0]]]}}])", 241, 0.0, 240.0)
+            .simulation);
+    runFrames(sim, 240);
+    CHECK(sim.particles().velocity[0][0] == Approx(12.0).epsilon(0.01));
+    CHECK(onlyParticle(sim)[0] == Approx(4.0).epsilon(0.01));
 }
 
 TEST_CASE("simulator: a field that names what it affects moves only those", "[sim]")

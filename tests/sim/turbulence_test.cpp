@@ -57,7 +57,7 @@ TEST_CASE("turbulence: its acceleration has no divergence, where a noise's gradi
     spec.strength = 5.0;
     spec.size = 8.0;
     spec.octaves = 4;
-    const Turbulence turbulence(spec);
+    const Turbulence turbulence(spec, 1, 24.0);
     const std::vector<Vec3d> points = randomPoints(2000, 100.0);
     // A step of a fiftieth of the finest swirls' size: small against their
     // curvature, large against the noise's float rounding.
@@ -83,7 +83,7 @@ TEST_CASE("turbulence: its root mean square is its strength, whatever the octave
         spec.size = 10.0;
         spec.octaves = octaves;
         spec.roughness = roughness;
-        const Turbulence turbulence(spec);
+        const Turbulence turbulence(spec, 1, 24.0);
         double meanSquare = 0.0;
         for (const Vec3d& p : points) meanSquare += turbulence.acceleration(p, 0.0).lengthSqr();
         INFO(octaves << " octaves, roughness " << roughness);
@@ -98,7 +98,7 @@ TEST_CASE("turbulence: a point reads the same every time; the swirls slide down 
     spec.size = 10.0;
     spec.octaves = 1;
     spec.evolution = 0.3;
-    const Turbulence turbulence(spec);
+    const Turbulence turbulence(spec, 1, 24.0);
     for (const Vec3d& p : randomPoints(100, 50.0)) {
         CHECK(turbulence.acceleration(p, 2.0) == turbulence.acceleration(p, 2.0));
         // After 2 s the pattern has slid 0.3 x 10 x 2 = 6 units down.
@@ -108,7 +108,27 @@ TEST_CASE("turbulence: a point reads the same every time; the swirls slide down 
     TurbulenceSettings other = spec;
     other.seed = 2;
     const Vec3d p(1.3, 2.7, -4.1);
-    CHECK((Turbulence(other).acceleration(p, 0.0) - turbulence.acceleration(p, 0.0)).length() > 0.1);
+    CHECK((Turbulence(other, 1, 24.0).acceleration(p, 0.0) - turbulence.acceleration(p, 0.0)).length() > 0.1);
+}
+
+TEST_CASE("turbulence: keyed strength and size are read at the time asked", "[sim]")
+{
+    TurbulenceSettings keyed;
+    keyed.strength = 3.0;
+    keyed.size = 10.0;
+    // Frame f is at (f - 1) / 24 s: strength 0 at frame 1, 3 at frame 25; size 10, then 20 from frame 25 on.
+    keyed.animation.set("strength", KeyTrack({1.0, 25.0}, {0.0, 3.0}, 1, Interpolation::Linear, false));
+    keyed.animation.set("size", KeyTrack({1.0, 25.0}, {10.0, 20.0}, 1, Interpolation::Step, false));
+    TurbulenceSettings constant = keyed;
+    constant.animation = Animation();
+    TurbulenceSettings larger = constant;
+    larger.size = 20.0;
+    const Turbulence turbulence(keyed, 1, 24.0), atKeyOne(constant, 1, 24.0), atKeyTwo(larger, 1, 24.0);
+    for (const Vec3d& p : randomPoints(50, 50.0)) {
+        CHECK(turbulence.acceleration(p, 0.0) == Vec3d(0.0));
+        CHECK(turbulence.acceleration(p, 0.5) == atKeyOne.acceleration(p, 0.5) * 0.5);
+        CHECK(turbulence.acceleration(p, 1.0) == atKeyTwo.acceleration(p, 1.0));
+    }
 }
 
 TEST_CASE("simulator: turbulence stirs a cloud the same on any thread count, none of it into the ground", "[sim]")

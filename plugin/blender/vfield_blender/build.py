@@ -114,7 +114,13 @@ def _keyframe_track(obj, track):
         obj.location, obj.rotation_quaternion, obj.scale = location, rotation, scale
         for path in ("location", "rotation_quaternion", "scale"):
             obj.keyframe_insert(path, frame=frame)
-    for fcurve in obj.animation_data.action.fcurves:
+    _make_linear(obj)
+
+
+def _make_linear(animated):
+    """Keys one a frame, straight between them: vfield's values at each
+    frame, whatever interpolation made them."""
+    for fcurve in animated.animation_data.action.fcurves:
         for key in fcurve.keyframe_points:
             key.interpolation = "LINEAR"
 
@@ -250,10 +256,10 @@ def _camera_matrix(pose):
 def _add_camera(collection, root, host, scene):
     data = _tag(bpy.data.cameras.new(f"{host.name} camera"), host)
     data.sensor_fit = "VERTICAL"
-    data.angle_y = math.radians(host.camera["fovDegrees"])
     data.clip_start, data.clip_end = 0.1, 1.0e5
     camera = _new_object(collection, host, f"{host.name} camera", data, root)
     poses = host.camera["poses"]
+    data.angle_y = math.radians(poses[0]["fovDegrees"])
     camera.matrix_basis = _camera_matrix(poses[0])
     if len(poses) > 1:
         camera.rotation_mode = "QUATERNION"
@@ -266,6 +272,10 @@ def _add_camera(collection, root, host, scene):
             camera.location, camera.rotation_quaternion = location, rotation
             camera.keyframe_insert("location", frame=pose["frame"])
             camera.keyframe_insert("rotation_quaternion", frame=pose["frame"])
+            data.angle_y = math.radians(pose["fovDegrees"])
+            data.keyframe_insert("lens", frame=pose["frame"])
+        _make_linear(camera)
+        _make_linear(data)
     scene.camera = camera
     return camera
 
@@ -273,17 +283,28 @@ def _add_camera(collection, root, host, scene):
 def _add_sun(collection, root, host):
     """The sun's irradiance is vfield's intensity times its colour (surfaces
     reflect albedo / pi of it in both renderers)."""
-    sun = host.sun
     data = _tag(bpy.data.lights.new(f"{host.name} sun", "SUN"), host)
+    data.angle = math.radians(0.53)
+    light = _new_object(collection, host, f"{host.name} sun", data, root)
+    light.rotation_mode = "QUATERNION"
+    _set_sun(light, data, host.sun)
+    if "frames" in host.sun:
+        for sun in host.sun["frames"]:
+            _set_sun(light, data, sun)
+            light.keyframe_insert("rotation_quaternion", frame=sun["frame"])
+            data.keyframe_insert("color", frame=sun["frame"])
+            data.keyframe_insert("energy", frame=sun["frame"])
+        _make_linear(light)
+        _make_linear(data)
+    return light
+
+
+def _set_sun(light, data, sun):
     brightest = max(sun["color"]) or 1.0
     data.color = [c / brightest for c in sun["color"]]
     data.energy = sun["intensity"] * brightest
-    data.angle = math.radians(0.53)
-    light = _new_object(collection, host, f"{host.name} sun", data, root)
     # The light shines down its -z: +z points at the sun.
-    light.rotation_mode = "QUATERNION"
     light.rotation_quaternion = Vector(sun["direction"]).to_track_quat("Z", "Y")
-    return light
 
 
 def _make_world(host):

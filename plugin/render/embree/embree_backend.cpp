@@ -34,7 +34,7 @@ std::vector<std::string> EmbreeBackend::frameFiles(const std::string& out, int f
 FrameToRender EmbreeBackend::frameToRender(const FrameView& view, const CloudVolume& volume) const
 {
     FrameToRender frame;
-    frame.settings = &mSettings;
+    frame.settings = view.settings;
     frame.surfaces = &mSurfaces;
     frame.materials = mMaterials;
     frame.volume = volume.empty() ? nullptr : &volume;

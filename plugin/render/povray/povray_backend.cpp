@@ -77,7 +77,7 @@ void PovrayBackend::render(const FrameView& view, const std::string& out)
     const auto start = std::chrono::steady_clock::now();
     const CloudLighting& cloud = *view.cloud;
     PovrayFrame pov;
-    pov.settings = &mSettings;
+    pov.settings = view.settings;
     pov.quality = mPovray.quality;
     pov.camera = view.camera;
     pov.frame = view.frame;

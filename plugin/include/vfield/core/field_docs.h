@@ -89,6 +89,7 @@ public:
         if (f.defaultOverride()) row.defaultText = f.defaultOverride();
         if (f.isRequired()) row.defaultText = "required";
         if (f.selector()) row.defaultText = ""; // one alternative is given, none is the default
+        if (f.keys()) row.type += " or keys";
         mTables[mTable].rows.push_back(std::move(row));
     }
     template<typename S>

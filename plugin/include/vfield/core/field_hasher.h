@@ -20,7 +20,13 @@ public:
         // object's key on a static one) shapes nothing.
         detail::hashLeaf(mHash, std::string(f.key()));
         mHash.addValue(int64_t(f.applies()));
-        if (f.applies()) hashValue(f, *pointer(f));
+        if (!f.applies()) return;
+        hashValue(f, *pointer(f));
+        if constexpr (detail::kKeyable<detail::Plain<T>>) {
+            const KeyTrack* track = f.keys() ? f.keys()->find(f.key()) : nullptr;
+            mHash.addValue(int64_t(track != nullptr));
+            if (track) detail::hashKeyTrack(mHash, *track);
+        }
     }
     template<typename S>
     void operator()(const InlineFields<S>& section)

@@ -25,6 +25,12 @@ public:
         }
         if (f.selector()) f.select();
         else if (!f.applies()) json->fail("\"" + std::string(f.key()) + "\" " + f.notApplyingReason());
+        if constexpr (detail::kKeyable<V>) {
+            if (Animation* animation = f.animation()) {
+                if (detail::isKeysObject(*json)) return readKeys(f, *animation, *json);
+                animation->erase(f.key());
+            }
+        }
         read(f, *json, static_cast<V*>(nullptr));
     }
 
@@ -71,6 +77,17 @@ private:
     }
 
     std::string resolvePath(const std::string& path) const;
+
+    /// Keys in place of a constant: kept in the struct's animation, the
+    /// member set to the first key's value.
+    template<typename T>
+    void readKeys(const Field<T>& f, Animation& animation, const JsonValue& json)
+    {
+        using Value = detail::KeyedValue<detail::Plain<T>>;
+        KeyTrack track = detail::readKeyTrack<Value>(json, f.direction());
+        *f.ref() = detail::fromKeyComponents<Value>(track.value(0));
+        animation.set(f.key(), std::move(track));
+    }
 
     template<typename T, typename V>
     void read(const Field<T>& f, const JsonValue& json, V*)
@@ -166,7 +183,11 @@ public:
     void operator()(const Field<T>& f)
     {
         if (!f.applies()) return;
-        check(f, mPrefix + f.key(), static_cast<detail::Plain<T>*>(nullptr));
+        using V = detail::Plain<T>;
+        if constexpr (detail::kKeyable<V>) {
+            if (const KeyTrack* track = f.keys() ? f.keys()->find(f.key()) : nullptr) return checkKeys(f, *track);
+        }
+        check(f, mPrefix + f.key(), static_cast<V*>(nullptr));
     }
     template<typename S>
     void operator()(const InlineFields<S>& section)
@@ -228,6 +249,16 @@ private:
     void checkProxy(const Field<T>& f, const std::string& key, const UniformRef<X>& uniform)
     {
         for (int i = 0; i < detail::kComponents<X>; ++i) requireNumber(key, (*uniform.vector)[i], f.min(), f.max());
+    }
+
+    /// Every key's value, each reported at its place ("sun/intensity/keys/2/1").
+    template<typename T>
+    void checkKeys(const Field<T>& f, const KeyTrack& track)
+    {
+        using Value = detail::KeyedValue<detail::Plain<T>>;
+        for (std::size_t i = 0; i < track.frames().size(); ++i)
+            checkValue(f, mPrefix + f.key() + "/keys/" + std::to_string(i) + "/1",
+                       detail::fromKeyComponents<Value>(track.value(i)));
     }
 
     static int64_t clampToInteger(double bound)

@@ -4,6 +4,7 @@
 /// member a field may hold, and each leaf value read from JSON, written to
 /// it and hashed.
 
+#include <vfield/core/animation.h>
 #include <vfield/core/atomic_file.h>
 #include <vfield/core/error.h>
 #include <vfield/core/fields.h>
@@ -140,6 +141,62 @@ void hashLeaf(ContentHash& hash, const T& value)
         for (const auto& item : value) hashLeaf(hash, item);
     } else {
         hash.addValue(double(value));
+    }
+}
+
+/// The value type a field's keys hold: the member's, or its optional's.
+template<typename V>
+using KeyedValue = typename OptionalValue<V>::type;
+/// Whether a member of type V may be keyed.
+template<typename V>
+inline constexpr bool kKeyable = kKeyComponents<KeyedValue<V>> > 0;
+
+/// Whether a JSON value is keys ({"keys": ...}) rather than a constant.
+inline bool isKeysObject(const JsonValue& json) { return json.isObject() && json.raw().contains("keys"); }
+
+/// {"keys": [[frame, value], ...], "interpolation": name} read into a track.
+template<typename T>
+KeyTrack readKeyTrack(const JsonValue& json, bool isDirection)
+{
+    JsonObject object(json);
+    const JsonValue keys = object.at("keys");
+    const std::optional<JsonValue> interpolation = object.find("interpolation");
+    object.finish();
+    std::vector<double> frames, values;
+    for (const JsonValue& key : keys.asArray()) {
+        const std::vector<JsonValue> pair = key.isArray() ? key.asArray() : std::vector<JsonValue>{};
+        if (pair.size() != 2) key.fail("expected a key [frame, value], got " + key.brief());
+        const double frame = pair[0].asNumber();
+        if (!frames.empty() && !(frame > frames.back()))
+            pair[0].fail("expected frames in increasing order, got " + pair[0].brief() + " after " + numberText(frames.back()));
+        const T value = readLeaf<T>(pair[1]);
+        if constexpr (std::is_same_v<T, Vec3d>)
+            if (isDirection && !(value.length() > 0)) pair[1].fail("expected a non-zero vector");
+        frames.push_back(frame);
+        values.resize(values.size() + kKeyComponents<T>);
+        toKeyComponents(value, &values[values.size() - kKeyComponents<T>]);
+    }
+    if (frames.empty()) keys.fail("expected at least one key [frame, value]");
+    return KeyTrack(std::move(frames), std::move(values), kKeyComponents<T>,
+                    interpolation ? readLeaf<Interpolation>(*interpolation) : Interpolation::Linear, isDirection);
+}
+
+template<typename T>
+nlohmann::json keyTrackToJson(const KeyTrack& track)
+{
+    nlohmann::json keys = nlohmann::json::array();
+    for (std::size_t i = 0; i < track.frames().size(); ++i)
+        keys.push_back({track.frames()[i], leafToJson(fromKeyComponents<T>(track.value(i)))});
+    return {{"keys", keys}, {"interpolation", enumName(track.interpolation())}};
+}
+
+inline void hashKeyTrack(ContentHash& hash, const KeyTrack& track)
+{
+    hash.addValue(uint64_t(track.frames().size()));
+    hash.addValue(int64_t(track.interpolation()));
+    for (std::size_t i = 0; i < track.frames().size(); ++i) {
+        hash.addValue(track.frames()[i]);
+        for (int c = 0; c < track.components(); ++c) hash.addValue(track.value(i)[c]);
     }
 }
 

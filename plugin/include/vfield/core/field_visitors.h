@@ -8,8 +8,10 @@
 ///   hashFields(hash, value)       every field into a content hash
 ///   fieldsToJson(value)           the struct as a scene file writes it
 ///   describeFields<T>()           the documentation tables (`vfield help keys`)
+///   atFrame(value, frame)         keyed members at one frame (animation.h)
 /// Include this in .cpp files only: it brings nlohmann's JSON with it.
 
+#include <vfield/core/field_animator.h>
 #include <vfield/core/field_docs.h>
 #include <vfield/core/field_hasher.h>
 #include <vfield/core/field_reader.h>

@@ -19,6 +19,12 @@ public:
     {
         if (!f.applies()) return;
         using V = detail::Plain<T>;
+        if constexpr (detail::kKeyable<V>) {
+            if (const KeyTrack* track = f.keys() ? f.keys()->find(f.key()) : nullptr) {
+                mObject[f.key()] = Json(detail::keyTrackToJson<detail::KeyedValue<V>>(*track));
+                return;
+            }
+        }
         if constexpr (detail::IsProxy<V>::value) {
             mObject[f.key()] = proxyToJson(f.ref());
         } else if constexpr (detail::IsOptional<V>::value) {

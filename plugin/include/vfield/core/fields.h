@@ -27,6 +27,8 @@
 /// declares its own fields (a nested object), std::optional or std::vector
 /// of such a struct. Proxies cover keys that are not one member: pairOf() ([a, b]
 /// over two members), uniformOf() (one number for all three of a Vec3d).
+/// A number, Vec3d or BBoxd marked animatable() may hold keys over frames
+/// instead (animation.h).
 /// Sections compose: inlineFields() puts a struct's fields at the current
 /// level, group() nests keys of the current struct under an object.
 
@@ -41,6 +43,8 @@
 #include <vector>
 
 namespace vfield {
+
+class Animation;
 
 // --- enum names ------------------------------------------------------------------
 
@@ -182,6 +186,27 @@ public:
         mNonZero = true;
         return *this;
     }
+    /// A direction: a non-zero vector whose length means nothing; keyed, its
+    /// keys and every value between them are unit vectors.
+    Field& isDirection()
+    {
+        mIsDirection = true;
+        return nonZero();
+    }
+    /// The key may hold keys over frames instead of a constant (animation.h):
+    /// they are kept in `animation`, the struct's, and the member holds the
+    /// first key's value.
+    Field& animatable(Animation& animation)
+    {
+        mAnimation = &animation;
+        mKeys = &animation;
+        return *this;
+    }
+    Field& animatable(const Animation& animation)
+    {
+        mKeys = &animation;
+        return *this;
+    }
     /// An optional object that may also be given as true (present, with its
     /// defaults) or false (absent).
     Field& orBoolean()
@@ -227,6 +252,11 @@ public:
     const char* notApplyingReason() const { return mNotApplyingReason; }
     bool pathValued() const { return mIsPath; }
     bool mustBeNonZero() const { return mNonZero; }
+    bool direction() const { return mIsDirection; }
+    /// Where the struct keeps its fields' keys, if this one is animatable.
+    const Animation* keys() const { return mKeys; }
+    /// The same, to read keys into (null when the struct is visited read-only).
+    Animation* animation() const { return mAnimation; }
     bool acceptsBoolean() const { return mOrBoolean; }
     /// A boolean's two names, or null when it is written true or false.
     const char* falseName() const { return mFalseName; }
@@ -245,7 +275,9 @@ private:
     const char* mUnit = "";
     const char* mDoc = "";
     const char* mDefaultText = nullptr;
-    bool mRequired = false, mApplies = true, mIsPath = false, mNonZero = false, mOrBoolean = false;
+    bool mRequired = false, mApplies = true, mIsPath = false, mNonZero = false, mOrBoolean = false, mIsDirection = false;
+    const Animation* mKeys = nullptr;
+    Animation* mAnimation = nullptr;
     const char* mNotApplyingReason = "does not apply here";
     const char *mFalseName = nullptr, *mTrueName = nullptr;
     const void* mSelector = nullptr;

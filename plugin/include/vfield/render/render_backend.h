@@ -28,6 +28,9 @@ namespace vfield {
 /// One frame as a back-end draws it (world space).
 struct FrameView {
     int frame = 0;
+    /// The scene's render settings at the frame's instant, keyed values
+    /// resolved (RenderSettings::at); never null.
+    const RenderSettings* settings = nullptr;
     Camera camera{Vec3d(0, 0, 1), Vec3d(0.0), Vec3d(0, 1, 0), 45, 1, 1}; ///< at the frame's instant
     std::map<int, Transform> poses;       ///< the dynamic objects' poses at the frame's instant, by object index
     const CloudLighting* cloud = nullptr; ///< the frame's density and the light in it (never null)

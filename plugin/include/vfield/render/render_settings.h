@@ -7,11 +7,13 @@
 /// Every back-end reads these, and only these: command-line overrides
 /// (--resolution, --spp) are applied to a copy of them before rendering.
 
+#include <vfield/core/animation.h>
 #include <vfield/core/fields.h>
 
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace vfield {
 
@@ -40,12 +42,13 @@ struct CameraFollowSettings {
     }
 };
 
-struct CameraSettings {
-    Vec3d position{0.0, 50.0, 200.0};
-    Vec3d lookAt{0.0, 0.0, 0.0};
-    Vec3d up{0.0, 1.0, 0.0};
-    double fovDegrees = 45.0;
-    std::optional<CameraFollowSettings> follow;
+/// A camera travelling a path through points at constant speed
+/// (camera_path.h), from the first point at frame `start` to the last at
+/// `end`, looking ahead along it or at the camera's lookAt.
+struct CameraPathSettings {
+    std::vector<Vec3d> points;
+    double start = 1.0, end = 120.0;
+    bool lookAlong = false;
 
     /// Throws OptionError naming the first option out of range.
     void validate() const;
@@ -53,13 +56,50 @@ struct CameraSettings {
     template<typename Self, typename Visitor>
     static void visitFields(Self& self, Visitor& visit)
     {
-        visit(field("position", self.position).unit("world units").doc("the pinhole"));
-        visit(field("lookAt", self.lookAt).unit("world units").doc("the point at the image's centre"));
-        visit(field("up", self.up).nonZero().doc("what is up in the image"));
-        visit(field("fovDegrees", self.fovDegrees).range(1e-3, 179).unit("degrees").doc("vertical field of view"));
+        visit(field("points", self.points)
+                  .required()
+                  .unit("world units")
+                  .doc("the path passes through these, in order: at least two, no two in a row equal"));
+        visit(field("start", self.start).unit("frames").doc("when the camera is at the first point (before it: there)"));
+        visit(field("end", self.end).unit("frames").doc("when it reaches the last (after it: there); after start"));
+        visit(field("lookAlong", self.lookAlong)
+                  .doc("look ahead along the path; off, the camera looks at lookAt (which may be keyed)"));
+    }
+};
+
+struct CameraSettings {
+    Vec3d position{0.0, 50.0, 200.0};
+    Vec3d lookAt{0.0, 0.0, 0.0};
+    Vec3d up{0.0, 1.0, 0.0};
+    double fovDegrees = 45.0;
+    std::optional<CameraFollowSettings> follow;
+    std::optional<CameraPathSettings> path;
+    Animation animation;
+
+    /// Throws OptionError naming the first option out of range.
+    void validate() const;
+    /// The camera at frame (fractional): its keyed values there, placed on its
+    /// path; a camera that stands there (no keys, no path).
+    CameraSettings at(double frame) const;
+    /// Whether it moves or changes over the frames by itself (keys, a path).
+    bool moves() const { return path.has_value() || !animation.empty(); }
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("position", self.position).animatable(self.animation).unit("world units").doc("the pinhole"));
+        visit(field("lookAt", self.lookAt).animatable(self.animation).unit("world units").doc("the point at the image's centre"));
+        visit(field("up", self.up).isDirection().animatable(self.animation).doc("what is up in the image"));
+        visit(field("fovDegrees", self.fovDegrees)
+                  .animatable(self.animation)
+                  .range(1e-3, 179)
+                  .unit("degrees")
+                  .doc("vertical field of view"));
         visit(field("follow", self.follow)
                   .doc("follow a dynamic object, moved in front of any surface between camera and object; position and "
                        "lookAt are then unused"));
+        visit(field("path", self.path)
+                  .doc("travel a path at constant speed; position (and with lookAlong, lookAt) are then unused"));
     }
 };
 
@@ -67,15 +107,17 @@ struct SunSettings {
     Vec3d direction{0.4, 0.8, 0.3}; ///< normalized on use
     Vec3d color{1.0, 0.96, 0.9};
     double intensity = 3.0;
+    Animation animation;
 
     void validate() const;
 
     template<typename Self, typename Visitor>
     static void visitFields(Self& self, Visitor& visit)
     {
-        visit(field("direction", self.direction).nonZero().doc("towards the sun"));
-        visit(field("color", self.color).atLeast(0).unit("linear RGB").doc("the sun's colour"));
+        visit(field("direction", self.direction).isDirection().animatable(self.animation).doc("towards the sun"));
+        visit(field("color", self.color).animatable(self.animation).atLeast(0).unit("linear RGB").doc("the sun's colour"));
         visit(field("intensity", self.intensity)
+                  .animatable(self.animation)
                   .range(0, 1e6)
                   .doc("radiance scale of the sun's light (irradiance, as Blender's sun strength)"));
     }
@@ -86,18 +128,29 @@ struct SkySettings {
     Vec3d horizonColor{0.55, 0.68, 0.9};
     double intensity = 1.0;
     double hazeDistance = 0.0;
+    Animation animation;
 
     void validate() const;
 
     template<typename Self, typename Visitor>
     static void visitFields(Self& self, Visitor& visit)
     {
-        visit(field("zenithColor", self.zenithColor).atLeast(0).unit("linear RGB").doc("the sky straight up"));
-        visit(field("horizonColor", self.horizonColor).atLeast(0).unit("linear RGB").doc("the sky at the horizon, and the haze"));
+        visit(field("zenithColor", self.zenithColor)
+                  .animatable(self.animation)
+                  .atLeast(0)
+                  .unit("linear RGB")
+                  .doc("the sky straight up"));
+        visit(field("horizonColor", self.horizonColor)
+                  .animatable(self.animation)
+                  .atLeast(0)
+                  .unit("linear RGB")
+                  .doc("the sky at the horizon, and the haze"));
         visit(field("intensity", self.intensity)
+                  .animatable(self.animation)
                   .range(0, 1e6)
                   .doc("scale of the sky's light; it also lights surfaces and the cloud"));
         visit(field("hazeDistance", self.hazeDistance)
+                  .animatable(self.animation)
                   .range(0, 1e12)
                   .unit("world units")
                   .doc("aerial perspective: what lies at distance d keeps e^(-d / hazeDistance) of its light; 0: clear air. "
@@ -375,6 +428,10 @@ struct RenderSettings {
     /// A content hash of every setting (its declaration's fields): frames
     /// rendered with another are stale.
     uint64_t hash() const;
+
+    /// The settings at frame (fractional, the shutter's instants between
+    /// frames): every keyed value there, the camera placed on its path.
+    RenderSettings at(double frame) const;
 
     /// A scene file's keys of how it is seen: camera, sun, sky, and the
     /// "render" object holding the image's, the medium's and the integrator's.

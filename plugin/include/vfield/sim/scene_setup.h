@@ -5,6 +5,7 @@
 /// particle clouds, uniform acceleration fields (gravity, wind, driving
 /// forces) and turbulence. Units: world units, seconds, mass units; y is up.
 
+#include <vfield/core/animation.h>
 #include <vfield/core/fields.h>
 #include <vfield/core/transform.h>
 #include <vfield/field/repulsion_field.h>
@@ -161,11 +162,15 @@ struct UniformFieldSettings {
     std::optional<BBoxd> box;
     double softEdge = 0.0;
     std::vector<std::string> affects; ///< empty: everything that moves
+    Animation animation;
 
     /// Whether it acts on the object or cloud of this name.
     bool acts(const std::string& name) const;
 
-    Vec3d accelerationAt(const Vec3d& p) const;
+    /// At p at frame (fractional), keys resolved.
+    Vec3d accelerationAt(const Vec3d& p, double frame) const;
+    /// Whether its acceleration is the same everywhere and at every frame.
+    bool isUniformAndConstant() const { return !box && animation.empty(); }
     /// Throws OptionError naming the first option out of range.
     void validate() const;
 
@@ -174,10 +179,11 @@ struct UniformFieldSettings {
     {
         visit(field("name", self.name).doc("for messages"));
         visit(field("acceleration", self.acceleration)
+                  .animatable(self.animation)
                   .required()
                   .unit("world units/s^2")
                   .doc("gravity, wind or a driving force: it acts alike on every mass"));
-        visit(field("box", self.box).defaultText("everywhere").doc("the field acts inside this box"));
+        visit(field("box", self.box).animatable(self.animation).defaultText("everywhere").doc("the field acts inside this box"));
         visit(field("softEdge", self.softEdge)
                   .range(0, 1e12)
                   .unit("world units")
@@ -246,6 +252,8 @@ struct SimulationSettings {
     SolverSettings solver;
 
     double frameTime(int frame) const { return (frame - firstFrame) / fps; }
+    /// The frame (fractional) at a time from the first frame: where keys are read.
+    double frameAt(double time) const { return firstFrame + time * fps; }
     /// Checks every part (keys as in a scene file: "frames/end",
     /// "objects/1/mass", "clouds/0/count", ...), unique object names and the
     /// particles in all. Throws OptionError.

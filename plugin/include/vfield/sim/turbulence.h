@@ -15,6 +15,7 @@
 /// acceleration alike for every mass, in world space; the objects' repulsive
 /// fields and contact keep everything it pushes out of the meshes.
 
+#include <vfield/core/animation.h>
 #include <vfield/core/fields.h>
 #include <vfield/core/math.h>
 #include <vfield/core/noise.h>
@@ -36,6 +37,7 @@ struct TurbulenceSettings {
     double evolution = 0.2;
     uint64_t seed = 1;                ///< mixed with nothing else
     std::vector<std::string> affects; ///< empty: everything that moves
+    Animation animation;
 
     /// Whether it acts on the object or cloud of this name.
     bool acts(const std::string& name) const;
@@ -47,10 +49,15 @@ struct TurbulenceSettings {
     {
         visit(field("name", self.name).doc("for messages"));
         visit(field("strength", self.strength)
+                  .animatable(self.animation)
                   .range(0, 1e6)
                   .unit("world units/s^2")
                   .doc("the acceleration's root mean square over space, all octaves together"));
-        visit(field("size", self.size).range(1e-3, 1e6).unit("world units").doc("the largest swirls' size"));
+        visit(field("size", self.size)
+                  .animatable(self.animation)
+                  .range(1e-3, 1e6)
+                  .unit("world units")
+                  .doc("the largest swirls' size"));
         visit(
             field("octaves", self.octaves).range(1, kMaxOctaves).doc("each octave's swirls are half the size of the one before"));
         visit(field("roughness", self.roughness).range(0, 1).doc("each octave's amplitude relative to the one before"));
@@ -68,7 +75,8 @@ struct TurbulenceSettings {
 /// A TurbulenceSettings's acceleration field.
 class Turbulence {
 public:
-    explicit Turbulence(const TurbulenceSettings& spec);
+    /// Frame f is at time (f - firstFrame) / fps: where keyed strength and size are read.
+    Turbulence(const TurbulenceSettings& spec, int firstFrame, double fps);
 
     /// The acceleration at p (world) at time t (seconds from the first
     /// frame), world units/s^2: a pure function of both, so any thread and
@@ -82,8 +90,11 @@ public:
 
 private:
     TurbulenceSettings mSpec;
-    GradientNoise mNoise; ///< n and m: this one noise read at two offsets far apart
-    double mScale = 0.0;  ///< strength over the octaves' combined root mean square
+    GradientNoise mNoise;     ///< n and m: this one noise read at two offsets far apart
+    double mOctavesRms = 0.0; ///< the octaves' combined root mean square, at strength 1
+    double mScale = 0.0;      ///< strength over mOctavesRms
+    int mFirstFrame;
+    double mFps;
 };
 
 } // namespace vfield
