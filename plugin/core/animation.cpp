@@ -75,6 +75,26 @@ void KeyTrack::evaluate(double frame, double* out) const
     if (mIsDirection) normalise(out, mComponents);
 }
 
+double KeyTrack::integrate(double from, double to) const
+{
+    const auto valueAt = [this](double frame) {
+        double v[6];
+        evaluate(frame, v);
+        return v[0];
+    };
+    // Piece by piece between keys: constant outside them and under step
+    // keys, linear or cubic between them, where Simpson's rule is exact.
+    double sum = 0.0, a = from;
+    for (std::size_t i = 0; a < to; ++i) {
+        while (i < mFrames.size() && mFrames[i] <= a) ++i;
+        const double b = i < mFrames.size() ? std::min(mFrames[i], to) : to;
+        if (mInterpolation == Interpolation::Step || a < mFrames.front() || a >= mFrames.back()) sum += valueAt(a) * (b - a);
+        else sum += (b - a) / 6.0 * (valueAt(a) + 4.0 * valueAt(0.5 * (a + b)) + valueAt(b));
+        a = b;
+    }
+    return sum;
+}
+
 const KeyTrack* Animation::find(const std::string& key) const
 {
     for (const auto& [name, track] : mTracks)

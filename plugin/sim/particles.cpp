@@ -16,6 +16,7 @@ void ParticleSet::reserve(std::size_t n)
     velocity.reserve(n);
     rest.reserve(n);
     peak.reserve(n);
+    origin.reserve(n);
     id.reserve(n);
     radius.reserve(n);
     cloud.reserve(n);
@@ -28,6 +29,10 @@ void ParticleSet::keep(const std::vector<uint8_t>& alive)
     keepFlagged(rest, alive);
     keepFlagged(rest2, alive);
     keepFlagged(peak, alive);
+    keepFlagged(origin, alive);
+    keepFlagged(birth, alive);
+    keepFlagged(death, alive);
+    keepFlagged(fade, alive);
     keepFlagged(id, alive);
     keepFlagged(radius, alive);
     keepFlagged(cloud, alive);
@@ -49,7 +54,7 @@ uint32_t spreadBits(uint32_t v)
 template<typename T>
 void permute(std::vector<T>& values, const std::vector<uint32_t>& order)
 {
-    if (values.empty()) return; // an optional attribute (rest2, peak) not kept
+    if (values.empty()) return; // an optional attribute (rest2, peak, birth, ...) not kept
     std::vector<T> sorted(values.size());
     for (std::size_t i = 0; i < order.size(); ++i) sorted[i] = values[order[i]];
     values = std::move(sorted);
@@ -92,6 +97,10 @@ void ParticleSet::append(const ParticleSet& other)
     add(rest, other.rest);
     add(rest2, other.rest2);
     add(peak, other.peak);
+    add(origin, other.origin);
+    add(birth, other.birth);
+    add(death, other.death);
+    add(fade, other.fade);
     add(id, other.id);
     add(radius, other.radius);
     add(cloud, other.cloud);
@@ -104,6 +113,10 @@ void ParticleSet::reorder(const std::vector<uint32_t>& order)
     permute(rest, order);
     permute(rest2, order);
     permute(peak, order);
+    permute(origin, order);
+    permute(birth, order);
+    permute(death, order);
+    permute(fade, order);
     permute(id, order);
     permute(radius, order);
     permute(cloud, order);

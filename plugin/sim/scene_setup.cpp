@@ -30,6 +30,14 @@ void ObjectSettings::validate() const { checkFields(*this); }
 
 void CloudSettings::validate() const { checkFields(*this); }
 
+void CloudEmissionSettings::validate() const
+{
+    checkFields(*this);
+    require(end >= start, "end", "\"end\" comes before \"start\"");
+    require(lifetime > 0.0 || lifetimeSpread == 0.0, "lifetimeSpread", "a spread needs a lifetime");
+    require(lifetime == 0.0 || lifetimeSpread < lifetime, "lifetimeSpread", "the spread must be less than the lifetime");
+}
+
 void UniformFieldSettings::validate() const
 {
     checkFields(*this);
@@ -78,6 +86,11 @@ void SimulationSettings::validate() const
         });
         require(!flows || clouds[i].drag > 0.0, key + "/drag",
                 "a potential flow carries particles at acceleration / drag: needs a drag above 0");
+        if (const std::optional<CloudEmissionSettings>& emission = clouds[i].emission;
+            emission && (emission->from == EmissionSource::Surface || emission->from == EmissionSource::Inside))
+            require(
+                std::any_of(objects.begin(), objects.end(), [&](const ObjectSettings& o) { return o.name == emission->object; }),
+                key + "/emission/object", "no object is named \"" + emission->object + "\"");
         particles += clouds[i].count;
         require(particles <= kMaxParticles, key,
                 "the clouds ask for more than " + std::to_string(kMaxParticles) + " particles in all");

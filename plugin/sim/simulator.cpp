@@ -105,6 +105,7 @@ Simulator::Simulator(const SimulationSettings& setup, const Preparing& preparing
     // Clouds: each from its own seed stream, mixed with the scene's seed.
     if (!mSetup.clouds.empty()) report("clouds: emitting particles");
     mParticles = emitClouds(mSetup);
+    makeEmitters();
     for (const CloudSettings& cloud : mSetup.clouds) domain.expand(BBoxd(cloud.center - cloud.radii, cloud.center + cloud.radii));
     mDomain = mSetup.solver.domain.value_or(domain);
     // Emitted in random order; splats run about ten times faster over
@@ -138,14 +139,19 @@ Simulator::Simulator(const SimulationSettings& setup, const Preparing& preparing
     // The preroll: the frames before the first, at earlier times, the
     // objects holding their first poses (poseAt interpolates between two
     // equal states). The particles rest where it leaves them, their peak
-    // heights there too (condensation counts from the first frame), sorted again.
-    if (const int frames = mSetup.solver.preroll; frames > 0 && mParticles.size() > 0) {
+    // and origin heights there too (condensation counts from the first frame), sorted again.
+    if (const int frames = mSetup.solver.preroll; frames > 0 && (mParticles.size() > 0 || !mEmitters.empty())) {
         report("clouds: preroll of " + std::to_string(frames) + " frames");
         const double first = mSetup.frameTime(mFrame);
-        for (int frame = -frames; frame < 0; ++frame)
+        for (int frame = -frames; frame < 0; ++frame) {
             advanceParticles(first + frame / mSetup.fps, first + (frame + 1) / mSetup.fps);
+            emitAndExpire(first + (frame + 1) / mSetup.fps);
+        }
         mParticles.rest = mParticles.position;
-        for (std::size_t p = 0; p < mParticles.size(); ++p) mParticles.peak[p] = mParticles.position[p].y();
+        // Emitted particles keep the heights they were born at, which lift them to their condensation level.
+        for (std::size_t p = 0; p < mParticles.size(); ++p)
+            if (!mSetup.clouds[mParticles.cloud[p]].emission)
+                mParticles.peak[p] = mParticles.origin[p] = mParticles.position[p].y();
         mParticles.sortSpatially(mDomain);
         mLastStep = {};
     }
@@ -173,14 +179,86 @@ void Simulator::advanceFrame(const std::function<void()>& afterDynamicSubstep)
     }
     ++mFrame; // poseAt interpolates between the two frames' poses
     advanceParticles(t0, t1);
+    emitAndExpire(t1);
     updateRestPositions();
 }
 
 void Simulator::keepParticles(const std::function<bool(uint32_t id)>& keep)
 {
+    mKeep = keep;
     std::vector<uint8_t> kept(mParticles.size());
     for (std::size_t p = 0; p < kept.size(); ++p) kept[p] = keep(mParticles.id[p]);
     mParticles.keep(kept);
+}
+
+void Simulator::makeEmitters()
+{
+    uint64_t nextId = mParticles.size();
+    for (std::size_t c = 0; c < mSetup.clouds.size(); ++c) {
+        const CloudSettings& cloud = mSetup.clouds[c];
+        if (!cloud.emission) continue;
+        const std::string key = "clouds/" + std::to_string(c) + "/emission/object";
+        const TriangleMesh* mesh = nullptr;
+        mEmitterObjects.push_back(-1);
+        if (cloud.emission->from == EmissionSource::Surface || cloud.emission->from == EmissionSource::Inside) {
+            // validate() made sure that it names one.
+            const auto named = std::find_if(mObjects.begin(), mObjects.end(),
+                                            [&](const SimObject& o) { return o.spec->name == cloud.emission->object; });
+            if (cloud.emission->from == EmissionSource::Inside && !named->isClosed)
+                throw OptionError(key, "\"" + cloud.emission->object + "\" is not closed: nothing is inside it");
+            mesh = &named->mesh;
+            mEmitterObjects.back() = int(named - mObjects.begin());
+        }
+        mEmitters.emplace_back(mSetup, c, uint32_t(nextId), mesh);
+        nextId += mEmitters.back().idCount();
+        if (nextId > std::numeric_limits<uint32_t>::max())
+            throw OptionError("clouds/" + std::to_string(c) + "/emission/rate",
+                              "the clouds would emit more than 2^32 particles over the frames");
+    }
+    if (mEmitters.empty()) return;
+    // Every particle gets a life; those emitted at the start live for ever.
+    mParticles.birth.assign(mParticles.size(), -std::numeric_limits<float>::infinity());
+    mParticles.death.assign(mParticles.size(), std::numeric_limits<float>::infinity());
+    mParticles.fade.assign(mParticles.size(), 1.0f);
+}
+
+void Simulator::emitAndExpire(double t)
+{
+    if (mEmitters.empty()) return;
+    std::vector<uint8_t> alive(mParticles.size());
+    bool anyDead = false;
+    for (std::size_t p = 0; p < alive.size(); ++p) {
+        alive[p] = double(mParticles.death[p]) > t;
+        anyDead = anyDead || !alive[p];
+    }
+    if (anyDead) mParticles.keep(alive);
+    for (std::size_t e = 0; e < mEmitters.size(); ++e) {
+        Emitter& emitter = mEmitters[e];
+        for (const Emitter::Birth& birth : emitter.birthsUpTo(t)) {
+            if (mKeep && !mKeep(birth.id)) continue;
+            Vec3d p = emitter.position(birth.number);
+            if (const int object = mEmitterObjects[e]; object >= 0)
+                p = poseAt(std::size_t(object), birth.time).worldFromObject(p);
+            const CloudSettings& cloud = emitter.cloud();
+            mParticles.position.emplace_back(p);
+            mParticles.velocity.emplace_back(cloud.velocity);
+            mParticles.rest.emplace_back(p);
+            if (!mParticles.rest2.empty()) mParticles.rest2.emplace_back(p);
+            mParticles.peak.push_back(float(p.y()));
+            mParticles.origin.push_back(float(p.y()));
+            mParticles.birth.push_back(float(birth.time));
+            mParticles.death.push_back(float(birth.death));
+            mParticles.fade.push_back(0.0f);
+            mParticles.id.push_back(birth.id);
+            mParticles.radius.push_back(float(cloud.particleRadius));
+            mParticles.cloud.push_back(uint16_t(emitter.cloudIndex()));
+        }
+    }
+    for (std::size_t p = 0; p < mParticles.size(); ++p) {
+        const CloudSettings& cloud = mSetup.clouds[mParticles.cloud[p]];
+        mParticles.fade[p] =
+            cloud.emission ? float(lifeFade(*cloud.emission, mParticles.birth[p], mParticles.death[p], t)) : 1.0f;
+    }
 }
 
 openvdb::Vec3SGrid::Ptr Simulator::staticForceGrid() const

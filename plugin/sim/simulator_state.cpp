@@ -59,7 +59,7 @@ private:
     std::size_t mAt = 0;
 };
 
-constexpr uint64_t kStateMagic = 0x3474617473646676ull; // "vfdstat4": with peak heights
+constexpr uint64_t kStateMagic = 0x3574617473646676ull; // "vfdstat5": with origin heights and emitted particles' lives
 
 } // namespace
 
@@ -89,6 +89,10 @@ void Simulator::writeState(std::ostream& out) const
     putVector(out, mParticles.rest);
     putVector(out, mParticles.rest2);
     putVector(out, mParticles.peak);
+    putVector(out, mParticles.origin);
+    putVector(out, mParticles.birth);
+    putVector(out, mParticles.death);
+    putVector(out, mParticles.fade);
     putVector(out, mParticles.id);
     putVector(out, mParticles.radius);
     putVector(out, mParticles.cloud);
@@ -116,13 +120,20 @@ void Simulator::restoreState(const std::string& bytes)
     in.getVector(particles.rest);
     in.getVector(particles.rest2);
     in.getVector(particles.peak);
+    in.getVector(particles.origin);
+    in.getVector(particles.birth);
+    in.getVector(particles.death);
+    in.getVector(particles.fade);
     in.getVector(particles.id);
     in.getVector(particles.radius);
     in.getVector(particles.cloud);
     const std::size_t n = particles.size();
+    // Every particle has a life when a cloud emits, none otherwise.
+    const auto lives = [&](const std::vector<float>& values) { return values.size() == (mEmitters.empty() ? 0 : n); };
     if (!in.atEnd() || particles.velocity.size() != n || particles.rest.size() != n ||
         particles.rest2.size() != (mSetup.solver.restPeriod == 0 ? 0 : n) || particles.peak.size() != n ||
-        particles.id.size() != n || particles.radius.size() != n || particles.cloud.size() != n)
+        particles.origin.size() != n || particles.id.size() != n || particles.radius.size() != n || particles.cloud.size() != n ||
+        !lives(particles.birth) || !lives(particles.death) || !lives(particles.fade))
         throw ValueError("the saved simulation state is inconsistent");
     for (const uint16_t c : particles.cloud)
         if (c >= mSetup.clouds.size()) throw ValueError("the saved state is of another scene (cloud index)");
@@ -133,6 +144,11 @@ void Simulator::restoreState(const std::string& bytes)
     mStatesAtFrameStart = mStates;
     mParticles = std::move(particles);
     mKeptBounds = {};
+    // The emitters' births are a function of time alone: counted again up to the frame.
+    for (Emitter& emitter : mEmitters) {
+        emitter.restart();
+        emitter.birthsUpTo(mSetup.frameTime(mFrame));
+    }
     updateRestPositions();
 }
 

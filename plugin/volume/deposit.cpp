@@ -146,11 +146,13 @@ void depositRun(const ParticleSet& particles, const std::vector<RestChannel>& re
                 const CondensationSettings& condensation, double inverseVoxel, std::size_t first, std::size_t last,
                 DenseSums& sums)
 {
-    const bool hasPeaks = particles.peak.size() == particles.size();
+    const bool hasPeaks = particles.peak.size() == particles.size(), hasOrigins = particles.origin.size() == particles.size(),
+               hasFades = particles.fade.size() == particles.size();
     std::array<double, kMaxChannels> source{1.0};
     for (std::size_t p = first; p != last; ++p) {
         const float y = particles.position[p].y();
-        const float share = condensation.share(y, hasPeaks ? particles.peak[p] : y);
+        float share = condensation.share(y, hasPeaks ? particles.peak[p] : y, hasOrigins ? particles.origin[p] : y);
+        if (hasFades) share *= particles.fade[p];
         if (share == 0.0f) continue;
         for (int axis = 0; axis < 3; ++axis) source[std::size_t(1 + axis)] = double(particles.velocity[p][axis]);
         for (std::size_t r = 0; r < rests.size(); ++r)

@@ -44,11 +44,17 @@ openvdb::points::PointDataGrid::Ptr particleGrid(const ParticleSet& particles, b
     points::populateAttribute(tree, index->tree(), "id", points::PointAttributeVector<int32_t>(ids));
     points::appendAttribute<float, ScaleCodec>(tree, "pscale");
     points::populateAttribute(tree, index->tree(), "pscale", points::PointAttributeVector<float>(particles.radius));
+    if (!particles.fade.empty()) { // emitted particles fading in and out (CloudEmissionSettings)
+        points::appendAttribute<float>(tree, "fade");
+        points::populateAttribute(tree, index->tree(), "fade", points::PointAttributeVector<float>(particles.fade));
+    }
     if (withState) {
         points::appendAttribute<Vec3f>(tree, "worldP");
         points::populateAttribute(tree, index->tree(), "worldP", positions);
         points::appendAttribute<float>(tree, "peak");
         points::populateAttribute(tree, index->tree(), "peak", points::PointAttributeVector<float>(particles.peak));
+        points::appendAttribute<float>(tree, "origin");
+        points::populateAttribute(tree, index->tree(), "origin", points::PointAttributeVector<float>(particles.origin));
         const std::vector<int32_t> clouds(particles.cloud.begin(), particles.cloud.end());
         points::appendAttribute<int32_t>(tree, "cloud");
         points::populateAttribute(tree, index->tree(), "cloud", points::PointAttributeVector<int32_t>(clouds));
@@ -128,6 +134,8 @@ ParticleSet readParticleGrid(const openvdb::GridBase& base)
     readAttribute<int32_t>(tree, "id", read.id);
     readAttribute<float>(tree, "pscale", read.radius);
     if (has("peak")) readAttribute<float>(tree, "peak", read.peak);
+    if (has("origin")) readAttribute<float>(tree, "origin", read.origin);
+    if (has("fade")) readAttribute<float>(tree, "fade", read.fade);
     if (has("cloud")) readAttribute<int32_t>(tree, "cloud", read.cloud);
 
     read.sortById();

@@ -17,9 +17,11 @@ double DetailSettings::displacementRange() const
 
 void CondensationSettings::validate() const { checkFields(*this); }
 
-float CondensationSettings::share(float y, float peak) const
+float CondensationSettings::share(float y, float peak, float origin) const
 {
-    return enabled() ? float(smoothstep01(1.0 - (double(peak) - double(y)) / depth)) : 1.0f;
+    if (!enabled()) return 1.0f;
+    const double level = lift > 0.0 ? double(origin) + lift : double(peak);
+    return float(smoothstep01(1.0 - (level - double(y)) / depth));
 }
 
 } // namespace vfield

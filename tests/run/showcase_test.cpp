@@ -99,7 +99,8 @@ TEST_CASE("showcase: the cloud bank climbs the ridge along the ground, crosses i
                                  std::abs(d.dot(camera.right())) <= depth * camera.tanHalfFov() * camera.aspect() &&
                                  std::abs(d.dot(camera.up())) <= depth * camera.tanHalfFov();
             const float y = particles.position[i].y(), peak = particles.peak.size() == particles.size() ? particles.peak[i] : y;
-            count += !inFrame && condensation.share(y, peak) > 0.0f;
+            const float origin = particles.origin.size() == particles.size() ? particles.origin[i] : y;
+            count += !inFrame && condensation.share(y, peak, origin) > 0.0f;
         }
         return count;
     };

@@ -462,6 +462,34 @@ TEST_CASE("simulator: a preroll moves the clouds before the first frame, holds t
     }
 }
 
+TEST_CASE("simulator: air lifted to its condensation level becomes cloud and clears again as it sinks back", "[sim][volume]")
+{
+    // Thrown up at 10 against -5: it rises 10 units over 2 s and is back where it started at 4 s.
+    const std::string text = R"({"version": 1, "frames": {"start": 1, "end": 97, "fps": 24}, "objects": [],
+      "clouds": [{"count": 2000, "shape": "sphere", "radius": 2, "velocity": [0, 10, 0], "drag": 0}],
+      "fields": [{"acceleration": [0, -5, 0]}],
+      "simulation": {"domain": {"min": [-50, -50, -50], "max": [50, 50, 50]}},
+      "volume": {"condensation": {"depth": 2, "lift": 6}}})";
+    const Scene scene = parseScene(text, "lifted.json");
+    Simulator sim(scene.simulation);
+    const auto integral = [&] {
+        const DensityGrids grids = splatParticles(sim.particles(), scene.volume);
+        double sum = 0.0;
+        for (auto it = grids.density->cbeginValueOn(); it; ++it) sum += *it;
+        return sum * std::pow(grids.density->voxelSize()[0], 3);
+    };
+    const double full = 2000 * scene.volume.densityPerParticle;
+    std::map<int, double> at{{1, integral()}};
+    for (int frame = 2; frame <= 97; ++frame) {
+        sim.advanceFrame();
+        if (frame == 49 || frame == 97) at[frame] = integral();
+    }
+    CHECK(at[1] < 1e-6 * full);                  // clear air where it starts, 6 below its level
+    CHECK(at[49] == Approx(full).epsilon(0.02)); // 10 up: above its level, all condensed
+    CHECK(at[97] < 1e-6 * full);                 // back down: evaporated
+    CHECK(sim.particles().size() == 2000);
+}
+
 TEST_CASE("simulator: a cloud carried down a slope loses density with every frame of descent, by condensation", "[sim][volume]")
 {
     // A slab of rock tilted 30 degrees, the cloud resting on its upper end

@@ -46,6 +46,9 @@ public:
 
     /// The value at frame (components numbers into out).
     void evaluate(double frame, double* out) const;
+    /// The integral of the first component over frames from..to (to >= from),
+    /// exact for every interpolation: what a keyed rate adds up to.
+    double integrate(double from, double to) const;
 
     const std::vector<double>& frames() const { return mFrames; }
     /// Key i's components.

@@ -43,6 +43,16 @@ struct ParticleSet {
     /// it has sunk since is what evaporates it (VolumeSettings::condensation).
     /// The simulator keeps one per particle; may be empty in sets made elsewhere.
     std::vector<float> peak;
+    /// The height where the particle started (world y): where it was emitted,
+    /// or where the preroll left it. How far it has risen above it is what
+    /// condenses it when condensation has a lift. Kept like `peak`.
+    std::vector<float> origin;
+    /// Emitted particles' lives (CloudEmissionSettings), seconds from the
+    /// first frame: born at `birth`, gone at `death` (infinity: never); and
+    /// the share of its density a particle has as it fades in after its
+    /// birth and out before its death (1 between), as of the frame's end.
+    /// Empty unless a cloud of the scene emits over time.
+    std::vector<float> birth, death, fade;
     std::vector<uint32_t> id;    ///< unique for the whole sequence
     std::vector<float> radius;   ///< world units (pscale)
     std::vector<uint16_t> cloud; ///< index of the cloud it came from

@@ -87,6 +87,83 @@ struct ObjectSettings {
     }
 };
 
+/// Where an emitter places its particles.
+enum class EmissionSource {
+    Shape,   ///< the cloud's own shape (sphere, ellipsoid, box), billowed as its first particles are
+    Surface, ///< an object's mesh surface, by area, where it stands at the particle's birth
+    Inside,  ///< inside an object's closed mesh, uniformly
+    Volume   ///< a density VDB's voxels above a threshold, in proportion to their density
+};
+inline constexpr EnumName<EmissionSource> kEmissionSourceNames[] = {{EmissionSource::Shape, "shape"},
+                                                                    {EmissionSource::Surface, "surface"},
+                                                                    {EmissionSource::Inside, "inside"},
+                                                                    {EmissionSource::Volume, "volume"}};
+constexpr const auto& enumNames(EmissionSource) { return kEmissionSourceNames; }
+
+/// A cloud that keeps emitting, as Houdini's POP Source and Blender's
+/// emitters do: `rate` particles a second from `start` to `end`, each living
+/// `lifetime` seconds (plus or minus lifetimeSpread; 0: for ever), its
+/// density fading in after its birth and out before its death over `fade`
+/// seconds, so that nothing pops. The cloud's count caps the particles
+/// alive at once: a particle due while the cap is reached is not emitted.
+struct CloudEmissionSettings {
+    double rate = 1000.0;
+    double start = 1.0, end = 9999.0;
+    double lifetime = 0.0, lifetimeSpread = 0.0;
+    double fade = 0.5;
+    EmissionSource from = EmissionSource::Shape;
+    std::string object;
+    std::string file;
+    std::string grid = "density";
+    double threshold = 0.0;
+    Animation animation;
+
+    /// Throws OptionError naming the first option out of range.
+    void validate() const;
+
+    template<typename Self, typename Visitor>
+    static void visitFields(Self& self, Visitor& visit)
+    {
+        visit(field("rate", self.rate)
+                  .animatable(self.animation)
+                  .range(0, 1e9)
+                  .unit("particles/s")
+                  .doc("how many particles a second it emits; over a run it emits the rate's integral, to within one"));
+        visit(field("start", self.start).unit("frames").doc("when it starts emitting"));
+        visit(field("end", self.end).unit("frames").doc("when it stops, not before start"));
+        visit(field("lifetime", self.lifetime).range(0, 1e9).unit("s").doc("how long a particle lives; 0: for ever"));
+        visit(field("lifetimeSpread", self.lifetimeSpread)
+                  .range(0, 1e9)
+                  .unit("s")
+                  .doc("each particle's lifetime is drawn uniformly within lifetime plus or minus this, less than lifetime"));
+        visit(field("fade", self.fade)
+                  .range(0, 1e9)
+                  .unit("s")
+                  .doc("a particle's density fades in over this after its birth and out over this before its death "
+                       "(smoothly); 0: it appears and vanishes at once"));
+        visit(field("from", self.from)
+                  .doc("shape: the cloud's shape; surface: an object's mesh surface; inside: inside an object's closed "
+                       "mesh; volume: a density VDB's voxels above threshold, in proportion to their density"));
+        visit(field("object", self.object)
+                  .onlyWhen(self.from == EmissionSource::Surface || self.from == EmissionSource::Inside,
+                            "applies to \"from\": \"surface\" or \"inside\" only")
+                  .required()
+                  .doc("the object emitted from, as it stands at each particle's birth"));
+        visit(field("file", self.file)
+                  .onlyWhen(self.from == EmissionSource::Volume, "applies to \"from\": \"volume\" only")
+                  .required()
+                  .isPath()
+                  .doc("the VDB file emitted from, in world space"));
+        visit(field("grid", self.grid)
+                  .onlyWhen(self.from == EmissionSource::Volume, "applies to \"from\": \"volume\" only")
+                  .doc("the float grid of that file"));
+        visit(field("threshold", self.threshold)
+                  .onlyWhen(self.from == EmissionSource::Volume, "applies to \"from\": \"volume\" only")
+                  .atLeast(0)
+                  .doc("voxels of at most this density emit nothing"));
+    }
+};
+
 struct CloudSettings {
     enum class Shape { Sphere, Ellipsoid, Box };
     static constexpr EnumName<Shape> kShapeNames[] = {
@@ -104,6 +181,7 @@ struct CloudSettings {
     double drag = 0.5;
     Vec3d velocity{0.0};
     uint64_t seed = 1;
+    std::optional<CloudEmissionSettings> emission;
 
     /// Throws OptionError naming the first option out of range.
     void validate() const;
@@ -112,7 +190,7 @@ struct CloudSettings {
     static void visitFields(Self& self, Visitor& visit)
     {
         visit(field("name", self.name).doc("what uniform fields' affects name"));
-        visit(field("count", self.count).range(1, double(kMaxParticles)).doc("particles"));
+        visit(field("count", self.count).range(1, double(kMaxParticles)).doc("particles; with emission, the most alive at once"));
         visit(field("shape", self.shape).doc("sphere (radius), ellipsoid (radii) or box (halfSize)"));
         visit(field("center", self.center).unit("world units").doc("centre of the shape"));
         visit(field("radius", uniformOf(self.radii))
@@ -151,6 +229,8 @@ struct CloudSettings {
         visit(field("drag", self.drag).range(0, 1e6).unit("1/s").doc("deceleration per unit velocity"));
         visit(field("velocity", self.velocity).unit("world units/s").doc("initial velocity"));
         visit(field("seed", self.seed).doc("placement of the particles, mixed with the scene's seed"));
+        visit(field("emission", self.emission)
+                  .doc("emit over time instead of all at the first frame; the shape's keys still place what it emits from it"));
     }
 };
 

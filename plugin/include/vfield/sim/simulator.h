@@ -32,6 +32,7 @@
 #include <vfield/core/vdb_trees.h>
 #include <vfield/field/repulsion_field.h>
 #include <vfield/mesh/mesh_distance.h>
+#include <vfield/sim/emission.h>
 #include <vfield/sim/flight.h>
 #include <vfield/sim/particles.h>
 #include <vfield/sim/scene_setup.h>
@@ -110,7 +111,8 @@ public:
     /// their exact poses moves particles bit for bit as the run that made them.
     void replayObjects(ObjectReplay replay) { mReplay = std::move(replay); }
     /// Keeps only the particles whose id keep accepts (a shard's share of a
-    /// cloud, or none); each moves as it would with all the others.
+    /// cloud, or none), now and as clouds emit; each moves as it would with
+    /// all the others.
     void keepParticles(const std::function<bool(uint32_t id)>& keep);
 
     const ParticleSet& particles() const { return mParticles; }
@@ -173,6 +175,11 @@ private:
     /// What the uniform fields and turbulence accelerate at p at time t (seconds).
     Vec3d fieldAcceleration(const AccelerationFields& fields, const Vec3d& p, double t) const;
     void advanceParticles(double t0, double t1);
+    /// The emitting clouds' emitters, their ids after the first particles'.
+    void makeEmitters();
+    /// At time t (a frame's end): removes the particles whose life is over,
+    /// emits those born since the last call, and sets every particle's fade.
+    void emitAndExpire(double t);
     /// Dual rest (SolverSettings::restPeriod): resets the rest position due
     /// at the current frame and sets the blend between the two.
     void updateRestPositions();
@@ -199,9 +206,12 @@ private:
     /// Per object: static and placed at the identity (the terrain, as a
     /// rule), so that its object space is world space and substeps skip the map.
     std::vector<uint8_t> mWorldIsObject;
-    std::vector<std::size_t> mRepulsive; ///< objects with a field
-    std::vector<std::size_t> mContact;   ///< objects with a closed mesh's distance (SimObject::distance)
-    std::vector<Turbulence> mTurbulence; ///< the setup's, in its order
+    std::vector<std::size_t> mRepulsive;    ///< objects with a field
+    std::vector<std::size_t> mContact;      ///< objects with a closed mesh's distance (SimObject::distance)
+    std::vector<Turbulence> mTurbulence;    ///< the setup's, in its order
+    std::vector<Emitter> mEmitters;         ///< the emitting clouds', in their order
+    std::vector<int> mEmitterObjects;       ///< per emitter, the object it emits from, or -1
+    std::function<bool(uint32_t id)> mKeep; ///< the particles this simulator keeps (keepParticles); unset: all
     /// The uniform fields and turbulence acting on each object and each cloud.
     std::vector<AccelerationFields> mObjectFields, mCloudFields;
     ParticleSet mParticles;

@@ -28,7 +28,7 @@ constexpr const auto& enumNames(ParticlePrecision) { return kParticlePrecisionNa
 
 /// The grid's voxel size is chosen for about 16 points per voxel. Returned as
 /// the base type so that callers need not include OpenVDB's points headers.
-/// withState also writes `peak` (float) and `cloud` (int32), the rest of what
+/// withState also writes `peak` and `origin` (float) and `cloud` (int32), the rest of what
 /// the simulator keeps per particle, and `worldP`, each position exactly as
 /// the simulator holds it: what a shard of a sharded simulation hands to its
 /// merge (readParticleGrid), which then splats the positions one run splats.
@@ -36,7 +36,7 @@ openvdb::GridBase::Ptr makeParticleGrid(const ParticleSet& particles, ParticlePr
                                         bool withState = false);
 
 /// The particles of a grid makeParticleGrid made, in id order: every
-/// attribute it holds (peak and cloud only from one made withState; else
+/// attribute it holds (peak, origin and cloud only from one made withState; else
 /// they stay empty). Positions come back exactly from one made withState,
 /// else within a millionth of a voxel.
 /// Throws ValueError when it is not such a grid.

@@ -125,14 +125,21 @@ struct DetailSettings {
 /// smoothly less as it sinks below it, none `depth` under it, so a cloud
 /// pouring over a ridge and down its lee slope thins into wisps (where the
 /// detail erodes the thinned edges) and vanishes, as a tablecloth cloud does.
-///   share = smoothstep(0, 1, 1 - (peak - y) / depth)
+///   share = smoothstep(0, 1, 1 - (level - y) / depth)
+/// with level the peak. With a lift, the level is instead `lift` above where
+/// the particle started (ParticleSet::origin), its lifting condensation
+/// level: moist air is clear until it rises to it and clears again as it
+/// sinks back, so a cloud stands where air rises (a cap cloud over a crest)
+/// while the air flows through it.
 struct CondensationSettings {
     double depth = 0.0;
+    double lift = 0.0;
 
     bool enabled() const { return depth > 0.0; }
     void validate() const;
-    /// A particle's share of its density at height y after a peak at `peak` (1 when off).
-    float share(float y, float peak) const;
+    /// A particle's share of its density at height y, having reached `peak`
+    /// and started at `origin` (1 when off).
+    float share(float y, float peak, float origin) const;
 
     template<typename Self, typename Visitor>
     static void visitFields(Self& self, Visitor& visit)
@@ -140,8 +147,15 @@ struct CondensationSettings {
         visit(field("depth", self.depth)
                   .range(0, 1e9)
                   .unit("world units")
-                  .doc("how far a particle sinks below the highest point it reached before its density is gone "
+                  .doc("how far a particle sinks below its condensation level before its density is gone "
                        "(smoothly); 0: off"));
+        visit(field("lift", self.lift)
+                  .range(0, 1e9)
+                  .unit("world units")
+                  .doc("its lifting condensation level: a particle's water condenses as it rises to this far above "
+                       "where it started and evaporates as it sinks back below, so a cloud forms where air rises and "
+                       "vanishes where it descends; 0: the level is the highest point it reached (it is born condensed "
+                       "and only evaporates as it sinks)"));
     }
 };
 
