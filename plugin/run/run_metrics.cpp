@@ -88,6 +88,52 @@ ParticleVelocities readParticleVelocities(const std::string& path)
     return out;
 }
 
+/// A frame's density: its centroid and the span along `along` that holds
+/// the middle 90% of it (none for an empty grid).
+struct DensityPlace {
+    Vec3d centroid{0.0};
+    double span = 0.0;
+    bool empty = true;
+};
+
+DensityPlace placeOfDensity(const std::string& path, const Vec3d& along)
+{
+    DensityPlace place;
+    for (const openvdb::GridBase::Ptr& base : readVdb(path)) {
+        const auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
+        if (!grid || grid->getName() != "density") continue;
+        std::vector<std::pair<double, double>> positionAndMass; // along `along`
+        double mass = 0.0;
+        Vec3d moment(0.0);
+        for (auto it = grid->cbeginValueOn(); it; ++it) {
+            if (!it.isVoxelValue() || *it <= 0.0f) continue;
+            const Vec3d p = grid->indexToWorld(it.getCoord());
+            mass += double(*it);
+            moment += p * double(*it);
+            positionAndMass.emplace_back(p.dot(along), double(*it));
+        }
+        if (!(mass > 0.0)) return place;
+        std::sort(positionAndMass.begin(), positionAndMass.end());
+        double below = 0.0, low = positionAndMass.front().first, high = positionAndMass.back().first;
+        bool lowFound = false;
+        for (const auto& [position, m] : positionAndMass) {
+            below += m;
+            if (!lowFound && below >= 0.05 * mass) {
+                low = position;
+                lowFound = true;
+            }
+            if (below >= 0.95 * mass) {
+                high = position;
+                break;
+            }
+        }
+        place.centroid = moment / mass;
+        place.span = high - low;
+        place.empty = false;
+    }
+    return place;
+}
+
 } // namespace
 
 RunMetrics measureRun(const std::string& path)
@@ -142,6 +188,10 @@ RunMetrics measureRun(const std::string& path)
     std::vector<int> previousFrame, slowFrames;
     std::vector<uint8_t> trapped;
     double turning = 0.0, length = 0.0;
+    // Over the second half: the particles' mean motion and median speeds.
+    const int secondHalf = stats.frames[stats.frames.size() / 2].frame;
+    Vec3d motion(0.0);
+    std::vector<double> medianSpeeds;
     for (const FrameRecord& r : stats.frames) {
         const std::string file = folder.particlesFile(r.frame);
         if (!fs::exists(file)) continue; // frames before the first written
@@ -151,6 +201,10 @@ RunMetrics measureRun(const std::string& path)
         // Slow against the cloud's median, while the cloud itself moves (its
         // median particle at least its own diameter a second): a bank at rest traps nothing.
         const double typical = median(speeds);
+        if (r.frame >= secondHalf) {
+            medianSpeeds.push_back(typical);
+            for (const Vec3d& v : now.velocity) motion += v;
+        }
         const bool moving = typical >= 2.0 * median(now.radius);
         const double slow = 0.1 * typical;
         for (std::size_t p = 0; p < now.id.size(); ++p) {
@@ -175,6 +229,26 @@ RunMetrics measureRun(const std::string& path)
     }
     if (length > 0.0) metrics.meanCurvature = turning / length;
     metrics.trapped = uint64_t(std::count(trapped.begin(), trapped.end(), uint8_t(1)));
+    metrics.medianSpeed = median(medianSpeeds);
+
+    // Where the cloud's density stands over the second half.
+    std::vector<Vec3d> centroids;
+    double spans = 0.0;
+    const Vec3d along = motion.length() > 0.0 ? motion.unit() : Vec3d(1, 0, 0);
+    for (const FrameRecord& r : stats.frames) {
+        if (r.frame < secondHalf || !fs::exists(folder.densityFile(r.frame))) continue;
+        const DensityPlace place = placeOfDensity(folder.densityFile(r.frame), along);
+        if (place.empty) continue;
+        centroids.push_back(place.centroid);
+        spans += place.span;
+    }
+    if (!centroids.empty()) {
+        metrics.cloudLength = spans / double(centroids.size());
+        for (const Vec3d& c : centroids) metrics.meanCentroid += c / double(centroids.size());
+    }
+    for (std::size_t a = 0; a < centroids.size(); ++a)
+        for (std::size_t b = a + 1; b < centroids.size(); ++b)
+            metrics.centroidWander = std::max(metrics.centroidWander, (centroids[a] - centroids[b]).length());
     return metrics;
 }
 

@@ -284,3 +284,33 @@ TEST_CASE("showcase: an airplane through a cloud bank parts it, no particle insi
     INFO("contacts " << contacts << ", particles in the tube before " << before << ", after " << inTube());
     CHECK(inTube() < before / 4); // the wake
 }
+
+TEST_CASE("showcase: the cap cloud stands over the crest while its air flows through it, without a penetration",
+          "[sim][showcase]")
+{
+    // An eighth of the air, each particle eight times as dense, the look's voxels doubled.
+    Scene scene = test::showcaseAtTestResolution("cap_cloud.json", 400000, 48);
+    CloudEmissionSettings& emission = *scene.simulation.clouds[0].emission;
+    emission.rate /= 8.0;
+    scene.volume.densityPerParticle *= 8.0;
+    scene.volume.voxelSize *= 2.0;
+    const std::string dir = test::scratchDir("showcase-cap-cloud");
+    simulateScene(scene, dir);
+    const RunMetrics metrics = measureRun(dir);
+    INFO("centroid at " << metrics.meanCentroid << " wandered " << metrics.centroidWander << " over a cloud "
+                        << metrics.cloudLength << " long; particles at a median " << metrics.medianSpeed << " units/s");
+    CHECK(metrics.penetrations == 0);
+    // A cloud of a size, standing: its centroid within a tenth of its length,
+    // while the air crosses it at the wind's terminal speed (acceleration / drag).
+    CHECK(metrics.cloudLength > 50.0);
+    CHECK(metrics.centroidWander < 0.1 * metrics.cloudLength);
+    // Over the crest (x = 0, 75 above the plain), not along the whole stream
+    // from the emitter 150 upwind to the lee: the air condenses as it climbs.
+    CHECK(std::abs(metrics.meanCentroid[0]) < 30.0);
+    CHECK(metrics.meanCentroid[1] > 60.0);
+    CHECK(metrics.cloudLength < 200.0);
+    const double windSpeed = scene.simulation.fields[0].acceleration[0] / scene.simulation.clouds[0].drag;
+    CHECK(metrics.medianSpeed == Approx(windSpeed).epsilon(0.2));
+    // Over the second half (24 frames, a second) the air moves five times as far as the cloud does.
+    CHECK(metrics.medianSpeed * 1.0 > 5.0 * metrics.centroidWander);
+}

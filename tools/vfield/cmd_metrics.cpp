@@ -106,6 +106,11 @@ void printPlain(const RunMetrics& m)
                     "path curvature %.4g rad/unit, %llu trapped\n",
                     (unsigned long long)m.particles, m.substepsPerParticleFrame, (unsigned long long)m.penetrations,
                     m.minClearance, m.meanClearance, m.meanCurvature, (unsigned long long)m.trapped);
+    if (m.cloudLength > 0.0)
+        std::printf("  cloud over the second half: its centroid at (%.4g, %.4g, %.4g) wandered %.3g units, %.3g of its length "
+                    "%.3g along its particles' motion, their median speed %.3g units/s\n",
+                    m.meanCentroid[0], m.meanCentroid[1], m.meanCentroid[2], m.centroidWander, m.centroidWander / m.cloudLength,
+                    m.cloudLength, m.medianSpeed);
     for (const ObjectMotion& o : m.objects)
         std::printf("  %s: cruise %.3g units/s, jerk mean %.4g peak %.4g units/s^3, stalled %.3g s, clearance %s%.3g\n",
                     o.name.c_str(), o.cruiseSpeed, o.meanJerk, o.peakJerk, o.stallSeconds, o.clearanceExact ? "" : "at least ",

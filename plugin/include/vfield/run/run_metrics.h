@@ -3,8 +3,10 @@
 /// A simulation folder (sim_folder.h) -> what a comparison of repulsion
 /// methods reports about it: the guarantees (penetrations, clearances), the
 /// quality of the motion (smoothness, stalls) and the cost (the fields' build
-/// time and memory, substeps). Read from the folder's files only: stats.json,
-/// tracks.json and the particles.####.vdb of every frame.
+/// time and memory, substeps), and whether a cloud stands while its air flows
+/// (a cap cloud). Read from the folder's files only: stats.json, tracks.json,
+/// the particles.####.vdb of every frame and the density.####.vdb of the
+/// second half's.
 
 #include <vfield/folder/sim_folder.h>
 
@@ -38,8 +40,15 @@ struct RunMetrics {
     /// counted while the median particle moves at least its diameter a second
     uint64_t trapped = 0;
     double substepsPerParticleFrame = 0.0;
-    double simulateSeconds = 0.0;      ///< wall clock of all frames (FrameRecord::seconds), field builds excluded
-    uint64_t contacts = 0;             ///< particle contacts with dynamic objects (StepStats)
+    double simulateSeconds = 0.0; ///< wall clock of all frames (FrameRecord::seconds), field builds excluded
+    uint64_t contacts = 0;        ///< particle contacts with dynamic objects (StepStats)
+    /// Whether the cloud stands while its air flows through it, over the
+    /// frames' second half: the farthest apart its density's centroid stood
+    /// at two of them, its length along its particles' mean motion (the span
+    /// holding the middle 90% of its density, averaged over the frames), world
+    /// units, and its particles' median speed, world units / s. Zero without density.
+    double centroidWander = 0.0, cloudLength = 0.0, medianSpeed = 0.0;
+    Vec3d meanCentroid{0.0};           ///< where the density's centroid stood, on average over those frames
     std::vector<ObjectMotion> objects; ///< dynamic objects, by name
 };
 
