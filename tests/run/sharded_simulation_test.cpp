@@ -63,6 +63,22 @@ void checkSameGrids(const std::string& first, const std::string& second, int fra
     }
 }
 
+/// The frame's density grids of two folders: the same voxels, values equal
+/// but for the order of the sums.
+void checkSameDensity(const std::string& first, const std::string& second, int frame)
+{
+    INFO("frame " << frame);
+    const GridComparison grids =
+        compareGridFiles(SimFolder(first).densityFile(frame), SimFolder(second).densityFile(frame), 1e-6);
+    CHECK(grids.onlyInA.empty());
+    CHECK(grids.onlyInB.empty());
+    for (const GridDifference& grid : grids.grids) {
+        INFO(grid.name << ": " << grid.differing << " of " << grid.voxels << " voxels differ, at most by " << grid.maxDifference);
+        CHECK(grid.voxels > 100);
+        CHECK(grid.differing == 0);
+    }
+}
+
 ParticleSet particlesOf(const std::string& path)
 {
     for (const openvdb::GridBase::Ptr& grid : readVdb(path))
@@ -93,18 +109,7 @@ TEST_CASE("sharded simulation: a cloud that keeps emitting merges into the frame
     REQUIRE(merged.frames.size() == one.frames.size());
     for (std::size_t f = 0; f < one.frames.size(); ++f) CHECK(merged.frames[f].alive == one.frames[f].alive);
     CHECK(one.frames.back().alive > 2000);
-    for (const int frame : {1, 6, 12}) {
-        INFO("frame " << frame);
-        const SimFolder a(whole), b(sharded);
-        const GridComparison grids = compareGridFiles(a.densityFile(frame), b.densityFile(frame), 1e-6);
-        CHECK(grids.onlyInA.empty());
-        CHECK(grids.onlyInB.empty());
-        for (const GridDifference& grid : grids.grids) {
-            INFO(grid.name << ": " << grid.differing << " of " << grid.voxels << " voxels differ");
-            CHECK(grid.voxels > 100);
-            CHECK(grid.differing == 0);
-        }
-    }
+    for (const int frame : {1, 6, 12}) checkSameDensity(whole, sharded, frame);
 }
 
 TEST_CASE("sharded simulation: three shards merge into the frames of one run, to float rounding", "[sim][shards]")
@@ -132,16 +137,7 @@ TEST_CASE("sharded simulation: three shards merge into the frames of one run, to
     for (const int frame : {1, 6, 12}) {
         INFO("frame " << frame);
         const SimFolder a(whole), b(sharded);
-        // The same voxels, values equal but for the order of the sums.
-        const GridComparison grids = compareGridFiles(a.densityFile(frame), b.densityFile(frame), 1e-6);
-        CHECK(grids.onlyInA.empty());
-        CHECK(grids.onlyInB.empty());
-        for (const GridDifference& grid : grids.grids) {
-            INFO(grid.name << ": " << grid.differing << " of " << grid.voxels << " voxels differ, at most by "
-                           << grid.maxDifference);
-            CHECK(grid.voxels > 100);
-            CHECK(grid.differing == 0);
-        }
+        checkSameDensity(whole, sharded, frame);
         // The same particles, each where one run put it (its position within
         // a millionth of the particle grid's voxel, read back from the files).
         const ParticleSet p = particlesOf(a.particlesFile(frame)), q = particlesOf(b.particlesFile(frame));

@@ -23,8 +23,8 @@ Scene emittingScene(const std::string& emission, int frames, const std::string& 
 {
     return parseScene(R"({"version": 1, "frames": {"start": 1, "end": )" + std::to_string(frames) +
                           R"(, "fps": 24}, "objects": )" + objects + R"(,
-        "clouds": [{"name": "c", "count": 1000000, "shape": "box", "halfSize": [5, 5, 5], "drag": 0)" + cloud +
-                          R"(, "emission": )" + emission + R"(}],
+        "clouds": [{"name": "c", "count": 1000000, "shape": "box", "halfSize": [5, 5, 5], "drag": 0)" +
+                          cloud + R"(, "emission": )" + emission + R"(}],
         "simulation": {"domain": {"min": [-100, -100, -100], "max": [100, 100, 100]}}})",
                       "emitting.json");
 }
@@ -152,7 +152,8 @@ TEST_CASE("emission: from an object's surface, from inside its closed mesh, and 
                                    "transform": {"translate": [10, 0, 0]}, "repulsion": false}])";
     // How far beyond the block's faces (<= 0: inside) each particle born in the first frame stands.
     const auto bornFrom = [&](const std::string& source) {
-        Simulator sim(emittingScene(R"({"rate": 2400, "from": ")" + source + R"(", "object": "block"})", 3, "", block).simulation);
+        Simulator sim(
+            emittingScene(R"({"rate": 2400, "from": ")" + source + R"(", "object": "block"})", 3, "", block).simulation);
         sim.advanceFrame();
         std::vector<double> beyondFaces;
         for (const Vec3f& p : sim.particles().position) {
@@ -177,8 +178,8 @@ TEST_CASE("emission: from an object's surface, from inside its closed mesh, and 
         density->tree().fill(openvdb::CoordBBox(openvdb::Coord(40, 0, 0), openvdb::Coord(47, 7, 7)), 0.05f);
         const std::string file = test::scratchDir("emission-volume") + "/source.vdb";
         writeVdb(file, {density});
-        Simulator sim(emittingScene(R"({"rate": 48000, "from": "volume", "file": ")" + file + R"(", "threshold": 0.1})", 3)
-                          .simulation);
+        Simulator sim(
+            emittingScene(R"({"rate": 48000, "from": "volume", "file": ")" + file + R"(", "threshold": 0.1})", 3).simulation);
         sim.advanceFrame(); // every particle born in this frame
         const std::vector<Vec3f>& born = sim.particles().position;
         REQUIRE(born.size() > 1000);
