@@ -268,6 +268,46 @@ TEST_CASE("render: a shot that does not move renders identical frames; an animat
     CHECK(renderAt(1) != renderAt(2));
 }
 
+TEST_CASE("render: a cloud that changes in one place keeps the light and the noise it had everywhere else", "[render]")
+{
+    // A wisp beside the cloud moves towards the camera between two frames,
+    // and the cloud's box grows with it: the march's steps, the paths' rays
+    // and the lattice that gathers their light are laid out independently of
+    // the box, so what stays put renders as it did. Laid out from the box's
+    // faces, every pixel of the cloud took other samples and other paths.
+    SmallScene scene;
+    scene.settings.integrator.multipleScattering.method = MultipleScatteringMethod::Paths;
+    scene.settings.integrator.multipleScattering.pathsPerFrame = 2000;
+    scene.settings.integrator.multipleScattering.pathFramesAround = 0;
+    const auto renderWithWispAt = [&](double z) {
+        openvdb::FloatGrid::Ptr grid = constantBox({-6, 2, -3}, {4, 6, 3}, 0.25, 0.6f);
+        openvdb::tools::compMax(*grid, *constantBox({9, 6, z}, {10, 7, z + 1}, 0.25, 0.6f));
+        const LitCloud cloud(grid, scene.settings, scene.settings.sun.direction, &scene.surfaces);
+        scene.frame.volume = &cloud.volume;
+        return renderFrame(scene.frame);
+    };
+    scene.frame.passes = true; // for the cloud's own coverage
+    const RenderImage before = renderWithWispAt(2.0), after = renderWithWispAt(4.0);
+    // The cloud's pixels well left of the wisp's (about x = 70).
+    std::size_t cloudPixels = 0, asBefore = 0;
+    double worst = 0.0;
+    for (int y = 0; y < before.height; ++y)
+        for (int x = 0; x < 50; ++x) {
+            const std::size_t pixel = std::size_t(y) * before.width + x;
+            if (before.passes.cloud[4 * pixel + 3] < 0.05f) continue;
+            ++cloudPixels;
+            double largest = 0.0;
+            for (int c = 0; c < 3; ++c)
+                largest = std::max(largest, std::abs(double(linearToSrgb(after.rgba[4 * pixel + c])) -
+                                                     double(linearToSrgb(before.rgba[4 * pixel + c]))));
+            asBefore += largest < 0.5 / 255.0;
+            worst = std::max(worst, largest * 255.0);
+        }
+    INFO(asBefore << " of " << cloudPixels << " pixels of the cloud as before; worst " << worst << " steps");
+    CHECK(cloudPixels > 150);
+    CHECK(asBefore > cloudPixels * 9 / 10);
+}
+
 TEST_CASE("render: pixels stand out by their display values' difference from a neighbour's, or their coverage's", "[render]")
 {
     // Columns 0-3 and 4-7: a step in linear value, or in coverage.

@@ -166,6 +166,7 @@ CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, d
                                         CloudMotion::Instant* motion) const
 {
     Segment segment;
+    const double start = tMin; // the steps are counted from here, not from the box (below)
     if (!mLighting.clip(origin, dir, tMin, tMax, mMotionReach)) return segment;
     const openvdb::FloatGrid& densityGrid = mLighting.density();
     Density density(densityGrid.tree());
@@ -180,9 +181,13 @@ CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, d
         if (opacitySum > 0.0) segment.distance = weightedDistance / opacitySum;
         return segment;
     };
-    // Stratified: step k covers [tMin + k step, tMin + (k + 1) step), the last
-    // cut at tMax, and samples it at a jittered point. The steps are counted
-    // from tMin for the whole ray, across the empty-space skipper's spans:
+    // Stratified: step k covers [start + k step, start + (k + 1) step), the
+    // last cut at tMax, and samples it at a jittered point; a step that
+    // begins before the cloud's box samples nothing there. The steps are
+    // counted from the ray's start, not from where it enters the box: the box
+    // changes with the cloud, and steps counted from its face sampled other
+    // points of every ray in every frame, which boiled in a shot where the
+    // cloud barely moves. So across the empty-space skipper's spans too:
     // restarted at each span, they sampled other depths on either side of a
     // span's start, which showed as stripes along the tree's node boundaries.
     double nextStep = 0.0; // the first step not yet marched
@@ -190,8 +195,8 @@ CloudVolume::Segment CloudVolume::march(const Vec3d& origin, const Vec3d& dir, d
     std::optional<Occupied> occupied;
     if (mSkipper) occupied.emplace(mSkipper->occupied->tree());
     const auto marchInterval = [&](double from, double to) {
-        for (double k = std::max(nextStep, std::floor((from - tMin) / mStep)); segment.transmittance > 0.0; k += 1.0) {
-            const double t = tMin + k * mStep;
+        for (double k = std::max(nextStep, std::floor((from - start) / mStep)); segment.transmittance > 0.0; k += 1.0) {
+            const double t = start + k * mStep;
             if (t >= to) break;
             nextStep = k + 1.0;
             const double dt = std::min(mStep, tMax - t);

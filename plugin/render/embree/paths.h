@@ -52,11 +52,18 @@ public:
 
     /// reach: how far a CloudMotion displaces reads (0 without one); each
     /// value then bounds the cells that far around it too.
-    MajorantGrid(const openvdb::FloatGrid& density, const BBoxd& box, double extinction, double reach) : mOrigin(box.min())
+    /// The cells lie on a lattice anchored at the world's origin, not at the
+    /// box: a cloud that grows in one place keeps the cells, and so the free
+    /// paths, it had everywhere else.
+    MajorantGrid(const openvdb::FloatGrid& density, const BBoxd& box, double extinction, double reach)
     {
         const double voxel = density.voxelSize()[0];
         for (mCell = kMajorantVoxels * voxel;; mCell *= 2.0) {
-            for (int axis = 0; axis < 3; ++axis) mCells[axis] = std::max(1, int(std::ceil(box.extents()[axis] / mCell)));
+            for (int axis = 0; axis < 3; ++axis) {
+                mFirstCell[axis] = int64_t(std::floor(box.min()[axis] / mCell));
+                mOrigin[axis] = double(mFirstCell[axis]) * mCell;
+                mCells[axis] = std::max(1, int(std::ceil((box.max()[axis] - mOrigin[axis]) / mCell)));
+            }
             if (latticeSize(mCells) <= kMaxMajorantCells) break;
         }
         mMajorant.assign(latticeSize(mCells), 0.0f);
@@ -81,15 +88,21 @@ public:
         }
     }
 
-    /// Calls segment(from, to, majorant) for the cells that origin + t dir
-    /// (dir unit) crosses for t in [tMin, tMax) (within the box), in order,
-    /// skipping cells with nothing in them, while it returns true.
+    /// Calls segment(from, to, majorant, cell) for the cells that origin + t
+    /// dir (dir unit) crosses for t in [tMin, tMax) (within the box), in
+    /// order, skipping cells with nothing in them, while it returns true;
+    /// cell is the cell's key, the same for any box that holds it. The first
+    /// segment starts where the ray enters its cell, though no earlier than
+    /// rayStart (<= tMin), and may so start before tMin: points drawn from a
+    /// cell's face stay where they were when the box, and with it tMin,
+    /// moves. Points before tMin are the caller's to discard.
     template<typename Segment>
-    void walk(const Vec3d& origin, const Vec3d& dir, double tMin, double tMax, const Segment& segment) const
+    void walk(const Vec3d& origin, const Vec3d& dir, double rayStart, double tMin, double tMax, const Segment& segment) const
     {
         std::array<int, 3> cell, step;
         std::array<double, 3> next, delta;
         const Vec3d start = (origin + dir * tMin - mOrigin) / mCell;
+        double cellEntry = rayStart;
         for (int axis = 0; axis < 3; ++axis) {
             cell[axis] = std::clamp(int(std::floor(start[axis])), 0, mCells[axis] - 1);
             if (dir[axis] == 0.0) {
@@ -101,12 +114,13 @@ public:
             const double boundary = mOrigin[axis] + (cell[axis] + (dir[axis] > 0.0 ? 1 : 0)) * mCell;
             next[axis] = (boundary - origin[axis]) / dir[axis];
             delta[axis] = mCell / std::abs(dir[axis]);
+            cellEntry = std::max(cellEntry, next[axis] - delta[axis]);
         }
-        for (double t = tMin; t < tMax;) {
+        for (double t = std::min(cellEntry, tMin); t < tMax;) {
             const int axis = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
             const double exit = std::min(next[axis], tMax);
             const float majorant = mMajorant[index(cell[0], cell[1], cell[2])];
-            if (majorant > 0.0f && exit > t && !segment(t, exit, double(majorant))) return;
+            if (majorant > 0.0f && exit > t && !segment(t, exit, double(majorant), key(cell))) return;
             t = exit;
             cell[axis] += step[axis];
             if (cell[axis] < 0 || cell[axis] >= mCells[axis]) return;
@@ -115,12 +129,20 @@ public:
     }
 
 private:
+    uint64_t key(const std::array<int, 3>& cell) const
+    {
+        constexpr uint64_t kBits = 21, kMask = (uint64_t(1) << kBits) - 1;
+        uint64_t key = 0;
+        for (int axis = 0; axis < 3; ++axis) key |= (uint64_t(mFirstCell[axis] + cell[axis]) & kMask) << (kBits * axis);
+        return key;
+    }
     std::size_t index(int i, int j, int k) const
     {
         return (std::size_t(k) * std::size_t(mCells[1]) + std::size_t(j)) * std::size_t(mCells[0]) + std::size_t(i);
     }
 
     Vec3d mOrigin;
+    std::array<int64_t, 3> mFirstCell{0, 0, 0}; ///< mOrigin / mCell
     double mCell = 1.0;
     std::array<int, 3> mCells{1, 1, 1};
     std::vector<float> mMajorant; ///< extinction, 1 / world units
@@ -152,12 +174,20 @@ public:
                                     double tMin, double tMax, SampleRandom& random) const
     {
         std::optional<double> hit;
+        const double rayStart = tMin;
         if (!present() || !mLighting->clip(origin, dir, tMin, tMax, mReach)) return hit;
-        mMajorants->walk(origin, dir, tMin, tMax, [&](double from, double to, double majorant) {
+        // Each cell's points come from a stream of the cell's own: a cell
+        // that the ray crosses in one frame's box and not in the next one's
+        // does not move the points drawn in the cells after it.
+        const SampleRandom::Split cells = random.split();
+        mMajorants->walk(origin, dir, rayStart, tMin, tMax, [&](double from, double to, double majorant, uint64_t cell) {
+            SampleRandom inCell = cells(cell);
             for (double t = from;;) {
-                t -= std::log(1.0 - random.next()) / majorant;
+                t -= std::log(1.0 - inCell.next()) / majorant;
                 if (t >= to) return true;
-                if (random.next() * majorant < sigmaT(density, motion, origin + dir * t)) {
+                // Drawn for every point, so that the draws after tMin do not depend on it.
+                const double accept = inCell.next();
+                if (t >= tMin && accept * majorant < sigmaT(density, motion, origin + dir * t)) {
                     hit = t;
                     return false;
                 }
@@ -172,14 +202,18 @@ public:
                          double tMax, SampleRandom& random) const
     {
         double transmittance = 1.0;
+        const double rayStart = tMin;
         if (!present() || !mLighting->clip(origin, dir, tMin, tMax, mReach)) return transmittance;
-        mMajorants->walk(origin, dir, tMin, tMax, [&](double from, double to, double majorant) {
+        const SampleRandom::Split cells = random.split(); // as in collision
+        mMajorants->walk(origin, dir, rayStart, tMin, tMax, [&](double from, double to, double majorant, uint64_t cell) {
+            SampleRandom inCell = cells(cell);
             for (double t = from;;) {
-                t -= std::log(1.0 - random.next()) / majorant;
+                t -= std::log(1.0 - inCell.next()) / majorant;
                 if (t >= to) return true;
+                if (t < tMin) continue;
                 transmittance *= 1.0 - sigmaT(density, motion, origin + dir * t) / majorant;
                 if (transmittance < 0.1) { // Russian roulette: what survives carries the rest
-                    if (random.next() < 0.5) {
+                    if (inCell.next() < 0.5) {
                         transmittance = 0.0;
                         return false;
                     }

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <utility>
 
 namespace vfield {
 
@@ -74,21 +75,29 @@ Vec3d directlyLitSurface(const FrameToRender& f, const SurfaceShading& surface, 
 }
 
 /// The mean radiance the surfaces under the cloud send up into it (lit by the
-/// sun, through the cloud, and by the sky), from rays cast straight down from
-/// a 16 x 16 grid over its box; the sky's horizon where there is no ground.
-/// The fast integrator's bounce light: the reference finds cloud bases lit by
-/// the ground as brightly as by the sky.
+/// sun, through the cloud, and by the sky), from rays cast straight down over
+/// its box, 8 to 16 across its wider side; the sky's horizon where there is
+/// no ground. The fast integrator's bounce light: the reference finds cloud
+/// bases lit by the ground as brightly as by the sky. The rays stand on a
+/// lattice anchored at the world's origin, its spacing a power of two, so a
+/// box that grows a little keeps the rays it had and its light barely moves.
 Vec3d groundRadianceBelow(const FrameToRender& f)
 {
     const RenderSettings& s = *f.settings;
     if (!f.volume || f.volume->empty()) return Vec3d(0.0);
     const BBoxd& box = f.volume->lighting().bounds();
-    constexpr int kRays = 16;
+    constexpr int kRaysAcross = 16;
+    const double spacing = std::exp2(std::ceil(std::log2(std::max(box.extents()[0], box.extents()[2]) / kRaysAcross)));
+    const auto raysAlong = [&](int axis) {
+        const int from = int(std::floor(box.min()[axis] / spacing));
+        return std::make_pair(from, std::max(from + 1, int(std::ceil(box.max()[axis] / spacing))));
+    };
+    const auto [iFrom, iTo] = raysAlong(0);
+    const auto [kFrom, kTo] = raysAlong(2);
     Vec3d sum(0.0);
-    for (int i = 0; i < kRays; ++i)
-        for (int k = 0; k < kRays; ++k) {
-            const Vec3d from(box.min()[0] + (i + 0.5) / kRays * (box.max()[0] - box.min()[0]), box.max()[1],
-                             box.min()[2] + (k + 0.5) / kRays * (box.max()[2] - box.min()[2]));
+    for (int i = iFrom; i < iTo; ++i)
+        for (int k = kFrom; k < kTo; ++k) {
+            const Vec3d from((i + 0.5) * spacing, box.max()[1], (k + 0.5) * spacing);
             SurfaceHit hit;
             const bool ground = f.surfaces->intersect(from, Vec3d(0, -1, 0), 0.0, std::numeric_limits<double>::max(), hit);
             if (!ground) {
@@ -100,7 +109,7 @@ Vec3d groundRadianceBelow(const FrameToRender& f)
                                                                                  0.0, std::numeric_limits<double>::max());
             sum += directlyLitSurface(f, surface, sunOnSurface(f, hit, surface, sunBlocked));
         }
-    return sum / double(kRays * kRays);
+    return sum / double((iTo - iFrom) * (kTo - kFrom));
 }
 
 /// The fast integrator's lattice of paths: from the paths the frame was

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <optional>
 #include <vector>
 
@@ -19,6 +20,86 @@ int pathStream(const FrameToRender& f, int frame)
 {
     const int streams = 2 * f.settings->integrator.multipleScattering.pathFramesAround + 1;
     return (frame % streams + streams) % streams;
+}
+
+/// The grid the paths' camera rays are cast on, one jittered ray a cell:
+/// square cells on a lattice anchored at the image's corner, in units of the
+/// image's height (a preview's lattice is the final frame's), about `rays`
+/// of them over the region where the cloud's box is, their size rounded to
+/// a power of the square root of 2. So the cells stay where they are while
+/// the box changes from frame to frame, and so do the rays cast through them
+/// (each drawn by its cell's key, its place in the whole image's lattice): a
+/// grid stretched over the box moved every ray whenever the box moved, and
+/// the light gathered from the paths of neighbouring frames boiled.
+class RayLattice {
+public:
+    RayLattice(const ImageRegion& region, int width, int height, double rays) : mHeight(height)
+    {
+        const double area = region.width() * region.height() / (double(height) * height);
+        mCell = std::exp2(std::round(2.0 * std::log2(std::sqrt(area / rays))) / 2.0);
+        mStride = int(std::ceil(double(width) / height / mCell)) + 1;
+        mColumn0 = cellOf(region.x0);
+        mRow0 = cellOf(region.y0);
+        mColumns = cellOf(region.x1) - mColumn0 + 1;
+        mRows = cellOf(region.y1) - mRow0 + 1;
+    }
+    std::size_t size() const { return std::size_t(mColumns) * std::size_t(mRows); }
+    int columns() const { return mColumns; }
+    int rows() const { return mRows; }
+    /// The column (row) of the cells over the region that image x (y), in pixels, falls in.
+    int columnAt(double x) const { return std::clamp(cellOf(x) - mColumn0, 0, mColumns - 1); }
+    int rowAt(double y) const { return std::clamp(cellOf(y) - mRow0, 0, mRows - 1); }
+    /// Cell n's key, the same in every frame whatever the region.
+    uint32_t key(std::size_t n) const
+    {
+        return uint32_t(std::size_t(rowOf(n)) * std::size_t(mStride) + std::size_t(columnOf(n)));
+    }
+    /// Cell n's rank in [0, 1): as Roberts's R2 sequence ranks the cells of
+    /// an image for dithering, so that the cells under any rank are spread
+    /// evenly over the image, in every frame alike.
+    double rank(std::size_t n) const
+    {
+        const double r = 0.7548776662466927 * columnOf(n) + 0.5698402909980532 * rowOf(n);
+        return r - std::floor(r);
+    }
+    /// The point (u, v) in [0, 1)^2 of cell n, in pixels.
+    Vec2d point(std::size_t n, double u, double v) const
+    {
+        const double column = double(mColumn0) + double(n % std::size_t(mColumns)) + u;
+        const double row = double(mRow0) + double(n / std::size_t(mColumns)) + v;
+        return Vec2d(column * mCell * mHeight, row * mCell * mHeight);
+    }
+
+private:
+    int cellOf(double pixels) const { return int(std::floor(pixels / mHeight / mCell)); }
+    /// Cell n's column and row in the whole image's lattice.
+    int columnOf(std::size_t n) const { return mColumn0 + int(n % std::size_t(mColumns)); }
+    int rowOf(std::size_t n) const { return mRow0 + int(n / std::size_t(mColumns)); }
+
+    double mHeight, mCell = 1.0;
+    int mStride = 1, mColumn0 = 0, mRow0 = 0, mColumns = 1, mRows = 1;
+};
+
+/// The cells, of those whose rays scattered, whose paths go on: the
+/// `count` of lowest rank (RayLattice::rank), in the lattice's order: spread
+/// evenly over them. A cloud that changes a little changes which rays
+/// scatter a little, and which go on as little; a shifted choice (every
+/// k-th) traced other paths everywhere.
+template<typename Cast>
+std::vector<std::size_t> thinnedEvenly(const std::vector<std::optional<Cast>>& cast, const RayLattice& lattice, std::size_t count)
+{
+    std::vector<double> ranks;
+    for (std::size_t n = 0; n < cast.size(); ++n)
+        if (cast[n]) ranks.push_back(lattice.rank(n));
+    double below = 2.0; // all of them
+    if (ranks.size() > count) {
+        std::nth_element(ranks.begin(), ranks.begin() + std::ptrdiff_t(count), ranks.end());
+        below = ranks[count];
+    }
+    std::vector<std::size_t> going;
+    for (std::size_t n = 0; n < cast.size(); ++n)
+        if (cast[n] && lattice.rank(n) < below) going.push_back(n);
+    return going;
 }
 
 } // namespace
@@ -46,13 +127,11 @@ ScatteredPaths traceScatteredPaths(const FrameToRender& f)
     const ImageRegion region = f.camera.regionOf(box);
     if (region.empty()) return traced;
     const std::size_t paths = std::size_t(settings.pathsPerFrame);
-    const double rays = double(kRaysPerPath) * double(paths), aspect = region.width() / region.height();
-    const int columns = std::max(1, int(std::lround(std::sqrt(rays * aspect))));
-    const int rows = std::max(1, int(std::lround(rays / double(columns))));
+    const RayLattice lattice(region, f.settings->image.width, f.settings->image.height, double(kRaysPerPath) * double(paths));
     struct FirstScattering {
         Vec3d direction, position;
     };
-    std::vector<std::optional<FirstScattering>> cast(std::size_t(columns) * std::size_t(rows));
+    std::vector<std::optional<FirstScattering>> cast(lattice.size());
     // The grid's cells that some of the density's leaves or tiles (with the
     // voxel around them that trilinear reads reach) cover on the image: a
     // ray through any other cell meets no cloud and is not cast. Most rays
@@ -66,13 +145,9 @@ ScatteredPaths traceScatteredPaths(const FrameToRender& f)
                               density.indexToWorld(voxels.max().asVec3d() + Vec3d(1.0)));
             const ImageRegion seen = f.camera.regionOf(world);
             if (seen.empty()) return;
-            const auto cell = [](double at, double from, double size, int cells) {
-                return std::clamp(int(std::floor((at - from) / size * cells)), 0, cells - 1);
-            };
-            const int i0 = cell(seen.x0, region.x0, region.width(), columns),
-                      i1 = cell(seen.x1, region.x0, region.width(), columns);
-            const int j0 = cell(seen.y0, region.y0, region.height(), rows), j1 = cell(seen.y1, region.y0, region.height(), rows);
-            for (int j = j0; j <= j1; ++j) std::fill_n(covered.begin() + std::ptrdiff_t(j) * columns + i0, i1 - i0 + 1, 1);
+            const int i0 = lattice.columnAt(seen.x0), i1 = lattice.columnAt(seen.x1);
+            for (int j = lattice.rowAt(seen.y0); j <= lattice.rowAt(seen.y1); ++j)
+                std::fill_n(covered.begin() + std::ptrdiff_t(j) * lattice.columns() + i0, i1 - i0 + 1, 1);
         };
         for (auto leaf = density.tree().cbeginLeaf(); leaf; ++leaf) cover(leaf->getNodeBoundingBox());
         auto tile = density.tree().cbeginValueOn();
@@ -92,21 +167,17 @@ ScatteredPaths traceScatteredPaths(const FrameToRender& f)
         Medium::Density density = medium.density();
         for (std::size_t n = r.begin(); n != r.end(); ++n) {
             if (!covered[n]) continue;
-            SampleRandom random(stream, uint32_t(n), 0u);
-            const double x = region.x0 + (double(n % std::size_t(columns)) + random.next()) * region.width() / columns;
-            const double y = region.y0 + (double(n / std::size_t(columns)) + random.next()) * region.height() / rows;
-            const Vec3d origin = f.camera.position(), dir = f.camera.direction(x, y);
+            SampleRandom random(stream, lattice.key(n), 0u);
+            const double u = random.next(), v = random.next();
+            const Vec2d pixel = lattice.point(n, u, v);
+            const Vec3d origin = f.camera.position(), dir = f.camera.direction(pixel[0], pixel[1]);
             // A surface is looked for only before a collision, as the reference's paths do (nextEvent).
             const std::optional<double> scatter = medium.collision(density, nullptr, origin, dir, 0.0, kInfinity, random);
             if (scatter && !f.surfaces->occluded(origin, dir, 0.0, *scatter))
                 cast[n] = FirstScattering{dir, origin + dir * *scatter};
         }
     });
-    std::vector<std::size_t> scattered;
-    for (std::size_t n = 0; n < cast.size(); ++n)
-        if (cast[n]) scattered.push_back(n);
-    std::vector<std::size_t> going(std::min(paths, scattered.size())); // every (scattered / paths)-th, in the grid's order
-    for (std::size_t k = 0; k < going.size(); ++k) going[k] = scattered[k * scattered.size() / going.size()];
+    const std::vector<std::size_t> going = thinnedEvenly(cast, lattice, paths);
     // The velocity grid covers the density's voxels only: read as it is, a
     // path at the cloud's edge, where most first scatter, would find the
     // velocity halved by the empty voxels beside it. CloudMotion extends it
@@ -124,7 +195,7 @@ ScatteredPaths traceScatteredPaths(const FrameToRender& f)
             ScatteredPaths::Path& path = traced.paths[k];
             path.position = cameraRay.position;
             if (velocityAt) path.velocity = velocityAt->velocity(path.position);
-            SampleRandom random(stream, uint32_t(going[k]), 1u);
+            SampleRandom random(stream, lattice.key(going[k]), 1u);
             path.light = tracer.radiance(path.position, tracer.scatteredDirection(cameraRay.direction, random),
                                          PathTracer::Start::Scattered, random);
         }
@@ -138,12 +209,20 @@ ScatteredLightGrid gatherScatteredLight(const FrameToRender& f, const std::vecto
     constexpr std::size_t kMaxLatticePoints = std::size_t(1) << 24;
     const CloudLighting& lighting = f.volume->lighting();
     const BBoxd& box = lighting.bounds();
-    const Vec3d extent = box.extents();
+    // The lattice's points lie on multiples of the spacing, wherever the
+    // cloud's box is: anchored at the box's corner, they moved whenever the
+    // box did, each point took other paths' light, and the light boiled from
+    // frame to frame.
     double spacing = f.settings->integrator.multipleScattering.pathSpacing * lighting.density().voxelSize()[0];
-    while (latticeSize(latticePoints(extent, spacing)) > kMaxLatticePoints) spacing *= 1.25; // coarser, within budget
-    const std::array<int, 3> points = latticePoints(extent, spacing);
+    const auto corner = [&] {
+        const Vec3d& lo = box.min();
+        return Vec3d(std::floor(lo[0] / spacing), std::floor(lo[1] / spacing), std::floor(lo[2] / spacing)) * spacing;
+    };
+    const auto pointsFor = [&] { return latticePoints(box.max() - corner(), spacing); };
+    while (latticeSize(pointsFor()) > kMaxLatticePoints) spacing *= 1.25; // coarser, within budget
+    const std::array<int, 3> points = pointsFor();
     ScatteredLightGrid grid;
-    for (DenseGrid& channel : grid.rgb) channel = DenseGrid(box.min(), spacing, points, 0.0f, 0.0f);
+    for (DenseGrid& channel : grid.rgb) channel = DenseGrid(corner(), spacing, points, 0.0f, 0.0f);
     const DenseGrid& lattice = grid.rgb[0];
 
     // Each lattice point takes the mean of the paths' light weighted as a

@@ -16,6 +16,24 @@ public:
     {}
     /// Uniform in [0, 1).
     double next() { return double(hash(mState++) >> 11) * (1.0 / 9007199254740992.0); }
+    /// A stream of its own for each key, split off this one by a single draw:
+    /// what is drawn from the keyed streams does not shift this one's later
+    /// draws, nor one key's draws another's.
+    class Split {
+    public:
+        SampleRandom operator()(uint64_t key) const
+        {
+            SampleRandom keyed;
+            keyed.mState = hash(mSeed ^ hash(key));
+            return keyed;
+        }
+
+    private:
+        friend class SampleRandom;
+        explicit Split(uint64_t seed) : mSeed(seed) {}
+        uint64_t mSeed;
+    };
+    Split split() { return Split(hash(mState++)); }
 
 private:
     static uint64_t hash(uint64_t x)
