@@ -217,8 +217,9 @@ struct ImageSettings {
         visit(field("adaptiveThreshold", self.adaptiveThreshold)
                   .range(0, 1)
                   .doc("above 0, only the pixels whose first sample differs from a neighbour's by more than this "
-                       "(sRGB colour, any channel, or coverage) take all samplesPerPixel, the others one; 0: every pixel "
-                       "takes them all. The reference integrator always takes them all"));
+                       "(sRGB colour, any channel, or coverage), or that the cloud covers by more than this, take all "
+                       "samplesPerPixel, the others one; 0: every pixel takes them all. The reference integrator always "
+                       "takes them all"));
         visit(field("transparentSky", self.transparentSky)
                   .doc("the sky drawn as RGB 0, alpha 0 in EXR frames (premultiplied), for compositing over a plate; "
                        "PNG frames then show black sky. Embree back-end only"));

@@ -154,8 +154,8 @@ std::vector<uint8_t> pixelsThatStandOut(const RenderImage& firstSamples, double 
 ///
 /// With ImageSettings::adaptiveThreshold above 0, every pixel takes its
 /// first sample, and only those that stand out from a neighbour
-/// (pixelsThatStandOut) take the others: their packets hold the block's
-/// pixels that do.
+/// (pixelsThatStandOut) or that the cloud covers by more than the threshold
+/// take the others: their packets hold the block's pixels that do.
 template<typename MakePacketSampler>
 RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler& makeSampler)
 {
@@ -180,6 +180,7 @@ RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler&
     };
     std::vector<PixelSums> sums(std::size_t(width) * height);
     std::vector<PassSums> passSums(passes ? sums.size() : 0);
+    std::vector<float> firstCloudCover(adaptive ? sums.size() : 0); // 1 - the cloud's transmittance at sample 0
     const auto screenMotion = [&](const CameraSample& seen, const Vec3d& dir) {
         if (!f.screenMotion) return Vec4d(0.0);
         return seen.object >= 0 ? f.screenMotion->ofPoint(seen.object, seen.objectPosition) : f.screenMotion->ofSky(dir);
@@ -241,6 +242,7 @@ RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler&
                         sum.colour += seen[lane].radiance();
                         sum.alpha += seen[lane].alpha();
                         ++sum.samples;
+                        if (adaptive && sample == 0) firstCloudCover[lanePixels[lane]] = float(1.0 - seen[lane].transmittance);
                         if (passes) passSums[lanePixels[lane]].add(seen[lane], screenMotion(seen[lane], packet.dirs[lane]));
                         float& depth = image.depth[lanePixels[lane]];
                         depth = std::min(depth, seen[lane].depth);
@@ -266,8 +268,14 @@ RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler&
     } else {
         samplePixels(0, 1, nullptr);
         finish();
-        const std::vector<uint8_t> standOut = pixelsThatStandOut(image, settings.adaptiveThreshold);
-        samplePixels(1, samplesPerPixel, &standOut);
+        std::vector<uint8_t> refined = pixelsThatStandOut(image, settings.adaptiveThreshold);
+        // The cloud's pixels take every sample whatever their neighbours:
+        // left to its noise, which of them took one and which all changed
+        // from frame to frame with the slightest change of the cloud, and a
+        // cloud that barely moved boiled.
+        for (std::size_t pixel = 0; pixel < refined.size(); ++pixel)
+            if (firstCloudCover[pixel] > settings.adaptiveThreshold) refined[pixel] = 1;
+        samplePixels(1, samplesPerPixel, &refined);
     }
     finish();
     return image;
