@@ -6,6 +6,7 @@
 /// (path_tracer.cpp) and the fast one's light gathered from its paths
 /// (scattered_light.cpp).
 
+#include <vfield/core/dense_grid.h>
 #include <vfield/core/trilinear_sampler.h>
 #include <vfield/render/embree/camera_samples.h>
 #include <vfield/render/embree/renderer.h>
@@ -59,8 +60,8 @@ public:
     {
         const double voxel = density.voxelSize()[0];
         for (mCell = kMajorantVoxels * voxel;; mCell *= 2.0) {
+            mFirstCell = anchoredIndexBelow(box.min(), mCell);
             for (int axis = 0; axis < 3; ++axis) {
-                mFirstCell[axis] = int64_t(std::floor(box.min()[axis] / mCell));
                 mOrigin[axis] = double(mFirstCell[axis]) * mCell;
                 mCells[axis] = std::max(1, int(std::ceil((box.max()[axis] - mOrigin[axis]) / mCell)));
             }

@@ -1,5 +1,6 @@
 #include <vfield/render/embree/renderer.h>
 
+#include <vfield/core/dense_grid.h>
 #include <vfield/render/embree/camera_samples.h>
 #include <vfield/render/embree/path_tracer.h>
 #include <vfield/render/embree/scattered_light.h>
@@ -89,7 +90,7 @@ Vec3d groundRadianceBelow(const FrameToRender& f)
     constexpr int kRaysAcross = 16;
     const double spacing = std::exp2(std::ceil(std::log2(std::max(box.extents()[0], box.extents()[2]) / kRaysAcross)));
     const auto raysAlong = [&](int axis) {
-        const int from = int(std::floor(box.min()[axis] / spacing));
+        const int from = int(anchoredIndexBelow(box.min(), spacing)[axis]);
         return std::make_pair(from, std::max(from + 1, int(std::ceil(box.max()[axis] / spacing))));
     };
     const auto [iFrom, iTo] = raysAlong(0);

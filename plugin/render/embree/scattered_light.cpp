@@ -215,8 +215,8 @@ ScatteredLightGrid gatherScatteredLight(const FrameToRender& f, const std::vecto
     // frame to frame.
     double spacing = f.settings->integrator.multipleScattering.pathSpacing * lighting.density().voxelSize()[0];
     const auto corner = [&] {
-        const Vec3d& lo = box.min();
-        return Vec3d(std::floor(lo[0] / spacing), std::floor(lo[1] / spacing), std::floor(lo[2] / spacing)) * spacing;
+        const std::array<int64_t, 3> first = anchoredIndexBelow(box.min(), spacing);
+        return Vec3d(double(first[0]), double(first[1]), double(first[2])) * spacing;
     };
     const auto pointsFor = [&] { return latticePoints(box.max() - corner(), spacing); };
     while (latticeSize(pointsFor()) > kMaxLatticePoints) spacing *= 1.25; // coarser, within budget

@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace vfield {
@@ -20,6 +21,14 @@ inline std::array<int, 3> latticePoints(const Vec3d& extent, double spacing)
 {
     return {int(std::ceil(extent[0] / spacing)) + 1, int(std::ceil(extent[1] / spacing)) + 1,
             int(std::ceil(extent[2] / spacing)) + 1};
+}
+
+/// The lattice every `spacing` anchored at the world's origin: the index,
+/// per axis, of its last point at or below p. A lattice from there stays put
+/// while the box it covers changes.
+inline std::array<int64_t, 3> anchoredIndexBelow(const Vec3d& p, double spacing)
+{
+    return {int64_t(std::floor(p[0] / spacing)), int64_t(std::floor(p[1] / spacing)), int64_t(std::floor(p[2] / spacing))};
 }
 
 /// How many values a lattice (or grid of cells) of these counts along x, y and z holds.
