@@ -42,6 +42,10 @@ void SkySettings::validate() const { checkFields(*this); }
 void ImageSettings::validate() const
 {
     checkFields(*this);
+    require(pixelFilterWidth == 0.0 || pixelFilterWidth >= 1.0, "pixelFilterWidth",
+            "a filter " + numberText(pixelFilterWidth) +
+                " pixels wide would leave some samples out of every pixel: 0 (a box) or 1 to " +
+                numberText(PixelFilter::kMaxWidth));
     require(shutterOpen <= shutterClose, "shutter",
             "the shutter closes (" + numberText(shutterClose) + ") before it opens (" + numberText(shutterOpen) + ")");
 }

@@ -83,6 +83,9 @@ struct FeatureScene {
         settings.image.width = 64;
         settings.image.height = 36;
         settings.image.samplesPerPixel = 1;
+        // Each pixel its own samples alone: the standard errors below take
+        // pixels as independent, which a filter sharing samples would not keep.
+        settings.image.pixelFilterWidth = 0.0;
         settings.integrator.volumeStep = 0.1;
         frame.settings = &settings;
         frame.surfaces = &surfaces;

@@ -308,6 +308,72 @@ TEST_CASE("render: a cloud that changes in one place keeps the light and the noi
     CHECK(asBefore > cloudPixels * 9 / 10);
 }
 
+TEST_CASE("render: the pixel filter steadies fine detail that shifts by a fraction of a pixel", "[render]")
+{
+    // A cloud of lumps a voxel across, half a pixel, moved by a voxel
+    // between two frames as a cloud's detail drifts: with a box, each pixel's
+    // two samples see other lumps and the cloud boils; shared among
+    // neighbours by the Gaussian, the same samples change its pixels by a
+    // quarter less or more, and its light is what it was.
+    SmallScene scene;
+    scene.frame.passes = true; // for the cloud's coverage
+    constexpr double kVoxel = 0.2;
+    const auto lumps = [&](int shift) {
+        openvdb::initialize();
+        openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(0.0f);
+        grid->setTransform(openvdb::math::Transform::createLinearTransform(kVoxel));
+        for (int i = -30; i <= 30; ++i)
+            for (int j = 10; j <= 30; ++j)
+                for (int k = -10; k <= 10; ++k)
+                    if ((i * 7 + j * 13 + k * 5) % 3 == 0) grid->tree().setValue(openvdb::Coord(i + shift, j, k), 2.0f);
+        return grid;
+    };
+    const auto renderShifted = [&](int shift) {
+        const LitCloud cloud(lumps(shift), scene.settings, scene.settings.sun.direction, &scene.surfaces);
+        scene.frame.volume = &cloud.volume;
+        return renderFrame(scene.frame);
+    };
+    // Over the pixels the cloud covers, in 8-bit steps, and its light.
+    const auto meanChange = [](const RenderImage& a, const RenderImage& b) {
+        double sum = 0.0;
+        std::size_t values = 0;
+        for (std::size_t pixel = 0; pixel < a.depth.size(); ++pixel) {
+            if (a.passes.cloud[4 * pixel + 3] < 0.05f) continue;
+            for (int c = 0; c < 3; ++c, ++values)
+                sum += std::abs(double(linearToSrgb(a.rgba[4 * pixel + c])) - double(linearToSrgb(b.rgba[4 * pixel + c])));
+        }
+        return 255.0 * sum / double(values);
+    };
+    const auto light = [](const RenderImage& image) {
+        double sum = 0.0;
+        for (std::size_t i = 0; i < image.rgba.size(); ++i) sum += i % 4 != 3 ? image.rgba[i] : 0.0f;
+        return sum;
+    };
+    scene.settings.image.pixelFilterWidth = 0.0;
+    const RenderImage boxBefore = renderShifted(0), boxAfter = renderShifted(1);
+    scene.settings.image.pixelFilterWidth = 2.0;
+    const RenderImage gaussianBefore = renderShifted(0), gaussianAfter = renderShifted(1);
+    const double box = meanChange(boxBefore, boxAfter), gaussian = meanChange(gaussianBefore, gaussianAfter);
+    INFO("the cloud's pixels change by " << box << " steps with a box, " << gaussian << " with the Gaussian");
+    CHECK(box > 2.0);
+    CHECK(gaussian < 0.75 * box);
+    CHECK(light(gaussianBefore) == Approx(light(boxBefore)).epsilon(0.01));
+}
+
+TEST_CASE("render: the pixel filter leaves a pixel's one sample through its centre to that pixel alone", "[render]")
+{
+    // One sample a pixel goes through its centre, a pixel away from every
+    // neighbour's: the Gaussian 2 pixels wide is 0 there, and the image is the box's.
+    SmallScene scene;
+    scene.settings.image.samplesPerPixel = 1;
+    const LitCloud cloud(constantBox({-6, 2, -3}, {6, 6, 3}, 0.25, 0.6f), scene.settings, scene.settings.sun.direction,
+                         &scene.surfaces);
+    scene.frame.volume = &cloud.volume;
+    const RenderImage gaussian = renderFrame(scene.frame);
+    scene.settings.image.pixelFilterWidth = 0.0;
+    CHECK(renderFrame(scene.frame).rgba == gaussian.rgba);
+}
+
 TEST_CASE("render: pixels stand out by their display values' difference from a neighbour's, or their coverage's", "[render]")
 {
     // Columns 0-3 and 4-7: a step in linear value, or in coverage.
@@ -347,6 +413,7 @@ TEST_CASE("render: adaptive sampling gives every sample to the pixels that stand
 {
     SmallScene scene;
     scene.settings.image.samplesPerPixel = 4;
+    scene.settings.image.pixelFilterWidth = 0.0; // each pixel its own samples alone: which took which shows
     // Painted ground: terrain's noise is drawn at a pixel's first sample on
     // it in each pass, which for the pixels refined is then their second.
     scene.frame.materials[0] = SurfaceMaterial::painted(Vec3d(0.3, 0.5, 0.2));

@@ -9,6 +9,7 @@
 
 #include <vfield/core/animation.h>
 #include <vfield/core/fields.h>
+#include <vfield/render/pixel_filter.h>
 
 #include <cstdint>
 #include <optional>
@@ -177,6 +178,8 @@ struct ImageSettings {
     /// takes every sample in every pixel whatever this is: deciding from a
     /// first sample would keep it from converging.
     double adaptiveThreshold = 0.0;
+    /// 0: a box; otherwise a Gaussian this many pixels wide (PixelFilter).
+    double pixelFilterWidth = 2.0;
     /// Off, the sky is drawn opaque (alpha 1); frames are premultiplied either way.
     bool transparentSky = false;
     int seed = 0;
@@ -220,6 +223,13 @@ struct ImageSettings {
                        "(sRGB colour, any channel, or coverage), or that the cloud covers by more than this, take all "
                        "samplesPerPixel, the others one; 0: every pixel takes them all. The reference integrator always "
                        "takes them all"));
+        visit(field("pixelFilterWidth", self.pixelFilterWidth)
+                  .range(0, PixelFilter::kMaxWidth)
+                  .unit("pixels")
+                  .doc("each sample's light is shared among the pixels whose centres lie within half this of it, by a "
+                       "Gaussian (as Arnold's, RenderMan's and Mantra's default 2x2 one), so a pixel averages its "
+                       "neighbours' nearby samples with its own and a cloud's fine detail does not boil from frame to "
+                       "frame; 0: a box, each sample in its own pixel alone; else at least 1. Embree back-end only"));
         visit(field("transparentSky", self.transparentSky)
                   .doc("the sky drawn as RGB 0, alpha 0 in EXR frames (premultiplied), for compositing over a plate; "
                        "PNG frames then show black sky. Embree back-end only"));

@@ -1,9 +1,10 @@
 #pragma once
 /// @file camera_samples.h
-/// The pixel loop every integrator of vfield's renderer shares: tiles in
-/// parallel, samplesPerPixel camera rays a pixel (one through the centre, or
-/// all jittered over the pixel), each with its own counter-based random
-/// stream, averaged into premultiplied RGBA and the nearest surface's depth.
+/// The pixel loop every integrator of vfield's renderer shares: bands of rows
+/// in parallel, samplesPerPixel camera rays a pixel (one through the centre,
+/// or all jittered over the pixel), each with its own counter-based random
+/// stream, shared among the pixels around it by the pixel filter into
+/// premultiplied RGBA, and the nearest surface's depth.
 /// With the shutter open, a pixel's samples are spread over it, one in each
 /// of samplesPerPixel equal parts (stratified), from a camera placed at
 /// each sample's time.
@@ -12,8 +13,8 @@
 #include <vfield/render/embree/renderer.h>
 #include <vfield/render/embree/sample_random.h>
 #include <vfield/render/embree/surfaces.h>
+#include <vfield/render/pixel_filter.h>
 
-#include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -22,6 +23,7 @@
 #include <functional>
 #include <limits>
 #include <mutex>
+#include <tuple>
 #include <vector>
 
 namespace vfield {
@@ -45,34 +47,52 @@ struct CameraSample {
     double alpha() const { return 1.0 - (1.0 - behindAlpha) * transmittance; }
 };
 
-/// One pixel's sums over its samples for the passes (RenderPasses), in
-/// sample order.
+/// One pixel's sums for the passes (RenderPasses) of the samples that reach
+/// it, each weighted by the pixel filter, in the order they come.
 class PassSums {
 public:
-    /// A sample, and the screen motion of what it sees (ScreenMotion's).
-    void add(const CameraSample& seen, const Vec4d& screenMotion)
+    /// A sample, the screen motion of what it sees (ScreenMotion's), its
+    /// weight here, and whether it is the pixel's own: the object seen
+    /// nearest is an own sample's, never a neighbour's.
+    void add(const CameraSample& seen, const Vec4d& screenMotion, double weight, bool own)
     {
-        ++mSamples;
-        mCloud += seen.cloud;
-        mCloudAlpha += 1.0 - seen.transmittance;
-        mBehindSeen += seen.behind * seen.transmittance;
-        mBehindAlphaSeen += seen.behindAlpha * seen.transmittance;
-        mTransmittance += seen.transmittance;
-        mBehind += seen.behind;
-        mBehindAlpha += seen.behindAlpha;
-        mShadow += seen.shadow;
-        mNormal += seen.normal;
-        mVector += screenMotion;
-        if (seen.object >= 0 && seen.depth < mNearest) {
+        mWeight += weight;
+        mCloud += seen.cloud * weight;
+        mCloudAlpha += (1.0 - seen.transmittance) * weight;
+        mBehindSeen += seen.behind * (seen.transmittance * weight);
+        mBehindAlphaSeen += seen.behindAlpha * seen.transmittance * weight;
+        mTransmittance += seen.transmittance * weight;
+        mBehind += seen.behind * weight;
+        mBehindAlpha += seen.behindAlpha * weight;
+        mShadow += seen.shadow * weight;
+        mNormal += seen.normal * weight;
+        mVector += screenMotion * weight;
+        if (own && seen.object >= 0 && seen.depth < mNearest) {
             mNearest = seen.depth;
             mObject = seen.object;
         }
     }
 
+    /// Adds the sums of samples taken elsewhere.
+    void add(const PassSums& other)
+    {
+        mWeight += other.mWeight;
+        mCloud += other.mCloud;
+        mCloudAlpha += other.mCloudAlpha;
+        mBehindSeen += other.mBehindSeen;
+        mBehindAlphaSeen += other.mBehindAlphaSeen;
+        mTransmittance += other.mTransmittance;
+        mBehind += other.mBehind;
+        mBehindAlpha += other.mBehindAlpha;
+        mShadow += other.mShadow;
+        mNormal += other.mNormal;
+        mVector += other.mVector;
+    }
+
     /// Writes the pixel's values at index `pixel` of each pass.
     void write(RenderPasses& passes, std::size_t pixel) const
     {
-        const double n = mSamples;
+        const double n = mWeight;
         const auto put = [](std::vector<float>& pass, std::size_t at, const Vec3d& v) {
             for (int c = 0; c < 3; ++c) pass[at + c] = float(v[c]);
         };
@@ -90,12 +110,33 @@ public:
     }
 
 private:
-    int mSamples = 0;
+    double mWeight = 0.0;
     Vec3d mCloud{0.0}, mBehindSeen{0.0}, mBehind{0.0}, mNormal{0.0};
     Vec4d mVector{0.0};
     double mCloudAlpha = 0.0, mBehindAlphaSeen = 0.0, mTransmittance = 0.0, mBehindAlpha = 0.0, mShadow = 0.0;
     float mNearest = std::numeric_limits<float>::infinity();
     int mObject = -1;
+};
+
+/// One pixel's sums of the beauty's samples that reach it, each weighted by
+/// the pixel filter.
+struct PixelSums {
+    Vec3d colour{0.0};
+    double alpha = 0.0;
+    double weight = 0.0;
+
+    void add(const CameraSample& seen, double w)
+    {
+        colour += seen.radiance() * w;
+        alpha += seen.alpha() * w;
+        weight += w;
+    }
+    void add(const PixelSums& other)
+    {
+        colour += other.colour;
+        alpha += other.alpha;
+        weight += other.weight;
+    }
 };
 
 /// Allocates every pass of a width x height image.
@@ -145,17 +186,20 @@ struct SamplePacket {
 /// the rest of their samples. A flag per pixel, row by row.
 std::vector<uint8_t> pixelsThatStandOut(const RenderImage& firstSamples, double threshold);
 
-/// makeSampler() is called once per tile (so that it can hold per-thread
-/// state such as grid accessors) and returns a callable
+/// makeSampler() is called once per band of rows (so that it can hold
+/// per-thread state such as grid accessors) and returns a callable
 /// void(SamplePacket& packet, CameraSample* seen) that fills seen[i] for
 /// each lane i < packet.count. A group of pixels' samples come one packet
-/// after another: sample 0 of each, then sample 1, and so on; each pixel
-/// sums its samples in that order.
+/// after another: sample 0 of each, then sample 1, and so on. Each sample is
+/// shared among the pixels around it by the pixel filter
+/// (ImageSettings::pixelFilterWidth), each pixel summing what reaches it in
+/// an order that no thread count changes.
 ///
 /// With ImageSettings::adaptiveThreshold above 0, every pixel takes its
 /// first sample, and only those that stand out from a neighbour
-/// (pixelsThatStandOut) or that the cloud covers by more than the threshold
-/// take the others: their packets hold the block's pixels that do.
+/// (pixelsThatStandOut, on the first samples before the filter shares them)
+/// or that the cloud covers by more than the threshold take the others:
+/// their packets hold the block's pixels that do.
 template<typename MakePacketSampler>
 RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler& makeSampler)
 {
@@ -164,57 +208,88 @@ RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler&
     const bool adaptive = settings.adaptiveThreshold > 0.0 && samplesPerPixel > 1;
     const bool motionBlur = settings.motionBlur();
     const uint32_t stream = settings.noiseStream(f.frame);
+    const PixelFilter filter(settings.pixelFilterWidth);
+    const std::size_t pixels = std::size_t(width) * height;
     RenderImage image;
     image.width = width;
     image.height = height;
-    image.rgba.assign(std::size_t(width) * height * 4, 0.0f);
-    image.depth.assign(std::size_t(width) * height, std::numeric_limits<float>::infinity());
+    image.rgba.assign(pixels * 4, 0.0f);
+    image.depth.assign(pixels, std::numeric_limits<float>::infinity());
     const bool passes = f.passes;
     if (passes) image.passes = allocatePasses(width, height);
 
-    // Each pixel's sums over the samples it has taken, in double, in sample order.
-    struct PixelSums {
-        Vec3d colour{0.0};
-        double alpha = 0.0;
-        int samples = 0;
+    // Bands of rows, the same whatever threads take them: each sums into its
+    // own rows and, for the rows just above and below it that its samples
+    // reach, into its own spare rows, added in band by band after each pass.
+    // Packets are whole blocks of kSize columns from the image's left edge:
+    // which pixels share a packet can decide which of two triangles an
+    // edge's ray hits (the packet's traversal order).
+    constexpr int kBandRows = 16;
+    const int bands = (height + kBandRows - 1) / kBandRows;
+    struct SpareRows {
+        std::vector<PixelSums> above, below;
+        std::vector<PassSums> passesAbove, passesBelow;
     };
-    std::vector<PixelSums> sums(std::size_t(width) * height);
-    std::vector<PassSums> passSums(passes ? sums.size() : 0);
-    std::vector<float> firstCloudCover(adaptive ? sums.size() : 0); // 1 - the cloud's transmittance at sample 0
+    std::vector<PixelSums> sums(pixels);
+    std::vector<PassSums> passSums(passes ? pixels : 0);
+    std::vector<SpareRows> spare(filter.spreads() ? bands : 0);
+    for (SpareRows& rows : spare) {
+        rows.above.resize(width);
+        rows.below.resize(width);
+        rows.passesAbove.resize(passes ? width : 0);
+        rows.passesBelow.resize(passes ? width : 0);
+    }
+    // With adaptive sampling, each pixel's first sample as taken, and its cloud's cover.
+    RenderImage firstSamples;
+    std::vector<float> firstCloudCover;
+    if (adaptive) {
+        firstSamples.width = width;
+        firstSamples.height = height;
+        firstSamples.rgba.assign(pixels * 4, 0.0f);
+        firstCloudCover.assign(pixels, 0.0f);
+    }
     const auto screenMotion = [&](const CameraSample& seen, const Vec3d& dir) {
         if (!f.screenMotion) return Vec4d(0.0);
         return seen.object >= 0 ? f.screenMotion->ofPoint(seen.object, seen.objectPosition) : f.screenMotion->ofSky(dir);
     };
-    const auto finish = [&] {
-        tbb::parallel_for(0, height, [&](int y) {
-            for (std::size_t pixel = std::size_t(y) * width; pixel < std::size_t(y + 1) * width; ++pixel) {
-                const PixelSums& sum = sums[pixel];
-                const double n = sum.samples;
-                float* out = &image.rgba[4 * pixel];
-                out[0] = float(sum.colour[0] / n);
-                out[1] = float(sum.colour[1] / n);
-                out[2] = float(sum.colour[2] / n);
-                out[3] = float(sum.alpha / n);
-                if (passes) passSums[pixel].write(image.passes, pixel);
-            }
-        });
-    };
 
-    // The second pass visits every tile again, taking some of its pixels.
-    PixelProgress progress(f.progress, std::size_t(width) * height * (adaptive ? 2 : 1));
-    // Samples [firstSample, lastSample) of a tile's pixels that `take` says (all when null).
-    const auto sampleTile = [&](const tbb::blocked_range2d<int>& r, int firstSample, int lastSample,
-                                const std::vector<uint8_t>* take) {
+    // The second pass visits every band again, taking some of its pixels.
+    PixelProgress progress(f.progress, pixels * (adaptive ? 2 : 1));
+    // Samples [firstSample, lastSample) of a band's pixels that `take` says (all when null).
+    const auto sampleBand = [&](int band, int firstSample, int lastSample, const std::vector<uint8_t>* take) {
+        const int y0 = band * kBandRows, y1 = std::min(height, y0 + kBandRows);
         auto sampler = makeSampler();
         SamplePacket packet;
         std::array<CameraSample, SamplePacket::kSize> seen;
         std::array<uint32_t, SamplePacket::kSize> lanePixels;
-        Camera moving = f.camera; // at a sample's time, when the camera moves over the shutter
-        std::size_t pixels = 0;
-        for (int y = r.rows().begin(); y != r.rows().end(); ++y)
-            for (int block = r.cols().begin(); block != r.cols().end(); ++block) {
-                const int x0 = block * SamplePacket::kSize, x1 = std::min(width, x0 + SamplePacket::kSize);
-                pixels += std::size_t(x1 - x0);
+        std::array<double, SamplePacket::kSize> imageX, imageY; // each lane's sample on the image, in pixels
+        Camera moving = f.camera;                               // at a sample's time, when the camera moves over the shutter
+        // Shares a sample among the pixels the filter reaches: the band's own or its spare rows.
+        const auto share = [&](int lane) {
+            const CameraSample& sample = seen[lane];
+            const PixelFilter::Span across = filter.along(imageX[lane], width), down = filter.along(imageY[lane], height);
+            const Vec4d motion = passes ? screenMotion(sample, packet.dirs[lane]) : Vec4d(0.0);
+            for (int j = 0; j < down.count; ++j) {
+                const int y = down.first + j;
+                for (int i = 0; i < across.count; ++i) {
+                    const int x = across.first + i;
+                    const double weight = across.weights[i] * down.weights[j];
+                    const std::size_t pixel = std::size_t(y) * width + x;
+                    const bool own = pixel == lanePixels[lane];
+                    if (y >= y0 && y < y1) {
+                        sums[pixel].add(sample, weight);
+                        if (passes) passSums[pixel].add(sample, motion, weight, own);
+                    } else {
+                        SpareRows& rows = spare[band];
+                        (y < y0 ? rows.above : rows.below)[x].add(sample, weight);
+                        if (passes) (y < y0 ? rows.passesAbove : rows.passesBelow)[x].add(sample, motion, weight, own);
+                    }
+                }
+            }
+        };
+        for (int y = y0; y != y1; ++y)
+            for (int x0 = 0; x0 < width; x0 += SamplePacket::kSize) {
+                const int x1 = std::min(width, x0 + SamplePacket::kSize);
                 packet.count = 0;
                 for (int x = x0; x < x1; ++x) {
                     const uint32_t pixel = uint32_t(y) * uint32_t(width) + uint32_t(x);
@@ -230,45 +305,59 @@ RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler&
                         const double shutter = motionBlur ? (sample + random.next()) / samplesPerPixel : 0.0;
                         const Camera& camera =
                             f.closingCamera ? (moving = Camera::between(f.camera, *f.closingCamera, shutter)) : f.camera;
+                        imageX[lane] = pixel % uint32_t(width) + jx;
+                        imageY[lane] = pixel / uint32_t(width) + jy;
                         packet.origins[lane] = camera.position();
-                        packet.dirs[lane] = camera.direction(pixel % uint32_t(width) + jx, pixel / uint32_t(width) + jy);
+                        packet.dirs[lane] = camera.direction(imageX[lane], imageY[lane]);
                         packet.times[lane] = float(shutter);
                         packet.seconds[lane] =
                             (settings.shutterOpen + shutter * (settings.shutterClose - settings.shutterOpen)) * f.secondsPerFrame;
                     }
                     sampler(packet, seen.data());
                     for (int lane = 0; lane < packet.count; ++lane) {
-                        PixelSums& sum = sums[lanePixels[lane]];
-                        sum.colour += seen[lane].radiance();
-                        sum.alpha += seen[lane].alpha();
-                        ++sum.samples;
-                        if (adaptive && sample == 0) firstCloudCover[lanePixels[lane]] = float(1.0 - seen[lane].transmittance);
-                        if (passes) passSums[lanePixels[lane]].add(seen[lane], screenMotion(seen[lane], packet.dirs[lane]));
-                        float& depth = image.depth[lanePixels[lane]];
+                        const uint32_t pixel = lanePixels[lane];
+                        share(lane);
+                        if (adaptive && sample == 0) {
+                            const Vec3d colour = seen[lane].radiance();
+                            float* rgba = &firstSamples.rgba[4 * pixel];
+                            for (int c = 0; c < 3; ++c) rgba[c] = float(colour[c]);
+                            rgba[3] = float(seen[lane].alpha());
+                            firstCloudCover[pixel] = float(1.0 - seen[lane].transmittance);
+                        }
+                        float& depth = image.depth[pixel];
                         depth = std::min(depth, seen[lane].depth);
                     }
                 }
             }
-        progress.add(pixels);
+        progress.add(std::size_t(y1 - y0) * width);
     };
-    // Tiles of 16 rows by two packets' columns. Packets are whole blocks of
-    // kSize columns, the same whatever tiles the threads take: which pixels
-    // share a packet can decide which of two triangles an edge's ray hits
-    // (the packet's traversal order), and images are the same for any
-    // thread count.
-    constexpr int kTileRows = 16, kTileBlocks = 2;
-    const int blocks = (width + SamplePacket::kSize - 1) / SamplePacket::kSize;
     const auto samplePixels = [&](int firstSample, int lastSample, const std::vector<uint8_t>* take) {
-        tbb::parallel_for(tbb::blocked_range2d<int>(0, height, kTileRows, 0, blocks, kTileBlocks),
-                          [&](const tbb::blocked_range2d<int>& r) { sampleTile(r, firstSample, lastSample, take); });
+        tbb::parallel_for(0, bands, [&](int band) { sampleBand(band, firstSample, lastSample, take); });
+        // The spare rows added in, band by band, and emptied for the next pass.
+        for (int band = 0; band < int(spare.size()); ++band) {
+            SpareRows& rows = spare[band];
+            const int y0 = band * kBandRows, y1 = std::min(height, y0 + kBandRows);
+            for (const auto& [y, row, passRow] :
+                 {std::tuple(y0 - 1, &rows.above, &rows.passesAbove), std::tuple(y1, &rows.below, &rows.passesBelow)}) {
+                if (y < 0 || y >= height) continue;
+                for (int x = 0; x < width; ++x) {
+                    const std::size_t pixel = std::size_t(y) * width + x;
+                    sums[pixel].add((*row)[x]);
+                    if (passes) passSums[pixel].add((*passRow)[x]);
+                }
+            }
+            rows.above.assign(rows.above.size(), PixelSums());
+            rows.below.assign(rows.below.size(), PixelSums());
+            rows.passesAbove.assign(rows.passesAbove.size(), PassSums());
+            rows.passesBelow.assign(rows.passesBelow.size(), PassSums());
+        }
     };
 
     if (!adaptive) {
         samplePixels(0, samplesPerPixel, nullptr);
     } else {
         samplePixels(0, 1, nullptr);
-        finish();
-        std::vector<uint8_t> refined = pixelsThatStandOut(image, settings.adaptiveThreshold);
+        std::vector<uint8_t> refined = pixelsThatStandOut(firstSamples, settings.adaptiveThreshold);
         // The cloud's pixels take every sample whatever their neighbours:
         // left to its noise, which of them took one and which all changed
         // from frame to frame with the slightest change of the cloud, and a
@@ -277,7 +366,15 @@ RenderImage renderCameraPackets(const FrameToRender& f, const MakePacketSampler&
             if (firstCloudCover[pixel] > settings.adaptiveThreshold) refined[pixel] = 1;
         samplePixels(1, samplesPerPixel, &refined);
     }
-    finish();
+    tbb::parallel_for(0, height, [&](int y) {
+        for (std::size_t pixel = std::size_t(y) * width; pixel < std::size_t(y + 1) * width; ++pixel) {
+            const PixelSums& sum = sums[pixel];
+            float* out = &image.rgba[4 * pixel];
+            for (int c = 0; c < 3; ++c) out[c] = float(sum.colour[c] / sum.weight);
+            out[3] = float(sum.alpha / sum.weight);
+            if (passes) passSums[pixel].write(image.passes, pixel);
+        }
+    });
     return image;
 }
 
